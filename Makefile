@@ -1,0 +1,25 @@
+# Every target sets itself up: Debian packages (python3-venv, yade) and the
+# virtual environment with the pinned packages (scripts/bootstrap.sh).
+VENV ?= .venv
+PY := $(VENV)/bin/python
+JOBS ?=
+
+.PHONY: setup test validate bench catalog clean
+
+setup:
+	@bash scripts/bootstrap.sh
+
+test: setup
+	$(PY) -m pytest -q tests
+
+validate: setup
+	$(PY) -m reports.validate $(if $(JOBS),--jobs $(JOBS))
+
+bench: setup
+	$(PY) -m bench.run
+
+catalog: setup
+	$(PY) -m scenes.catalog
+
+clean:
+	rm -rf reports/out bench/out results .cache

@@ -1,0 +1,15 @@
+"""Exceptions that the command line turns into exit statuses."""
+
+
+class SceneError(ValueError):
+    """A rejected input: the message is one line naming the key or block at fault.
+
+    The command line prints it on stderr and exits with status 2.
+    """
+
+    def __init__(self, message: str):
+        super().__init__(" ".join(str(message).split()))
+
+
+class SolverError(RuntimeError):
+    """A solver run that could not produce a trustworthy answer (exit status 1)."""

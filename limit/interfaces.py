@@ -1,0 +1,281 @@
+"""Contact interfaces found from the block geometry alone.
+
+Two blocks a, b touch where a face of a and a face of b lie in the same plane
+(on the same line in 2D) with opposite outward normals and overlap with
+positive area (length). Broad phase: :mod:`limit.broadphase`; narrow phase:
+vectorised face-pair tests and, in 3D, a tolerance-aware convex clipping
+(:mod:`limit.clip`).
+
+Local frame of an interface (``normal``, ``t1``, ``t2``)
+-------------------------------------------------------
+* ``normal`` is the outward normal of block a, pointing into block b.
+* 3D: ``t1 x t2 = normal``. For a rectangular contact ``t1`` runs along its
+  longer edge, and ``l1``, ``l2`` are the half lengths along ``t1``, ``t2``
+  (Baggio & Trovalusci's l_1, l_2). For any other polygon ``t1``, ``t2`` are the
+  principal axes of its second moment of area (``t1`` the axis of least
+  moment, i.e. along the longer extent) and ``l1``, ``l2`` its half extents
+  along them.
+* 2D: ``t1 = (n_y, -n_x)`` so that (t1, normal) is right-handed like (x, y);
+  ``l1`` is the half length of the contact segment, ``l2`` half the scene
+  thickness, and ``area`` is length x thickness (m^2).
+
+``polygons[k]`` holds the contact polygon (3D: counter-clockwise about the
+normal; 2D: the two end points) in world coordinates; ``local[k]`` the same
+points in the (t1, t2) frame about the centroid (2D: a (2, 1) array of t1
+coordinates).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from . import broadphase, clip, facetable
+
+#: Faces count as anti-parallel when n_a . n_b < -(1 - ANGLE_TOL).
+ANGLE_TOL = 1e-6
+
+
+@dataclass
+class Interfaces:
+    dim: int
+    a: np.ndarray          # (m,) index of block a (normal points out of a)
+    b: np.ndarray          # (m,) index of block b
+    normal: np.ndarray     # (m, d)
+    t1: np.ndarray         # (m, d)
+    t2: np.ndarray | None  # (m, 3) in 3D, None in 2D
+    centroid: np.ndarray   # (m, d) m
+    area: np.ndarray       # (m,) m^2
+    l1: np.ndarray         # (m,) m
+    l2: np.ndarray         # (m,) m
+    is_rect: np.ndarray    # (m,) bool
+    polygons: list         # m arrays (k, d), world coordinates
+    local: list            # m arrays (k, 2) in 3D / (2, 1) in 2D, frame coordinates
+    mu: np.ndarray         # (m,) friction coefficient
+
+    def __len__(self) -> int:
+        return len(self.a)
+
+    def pairs(self, scene) -> list[tuple[str, str]]:
+        return [(scene.blocks[i].id, scene.blocks[j].id) for i, j in zip(self.a, self.b)]
+
+
+def find_interfaces(scene) -> Interfaces:
+    """All contact interfaces of ``scene`` (contacts between two fixed blocks excluded)."""
+    blocks = scene.blocks
+    tol = scene.tolerance
+    d = scene.dim
+    ft = facetable.build(blocks)
+    lo, hi = broadphase.aabbs(blocks)
+    pa, pb = broadphase.candidate_pairs(lo, hi, tol)
+    fixed = np.array([b.fixed for b in blocks])
+    keep = ~(fixed[pa] & fixed[pb])
+    pa, pb = pa[keep], pb[keep]
+
+    fa, fb, pair = _facing_faces(ft, pa, pb, tol)
+    if d == 2:
+        res = _contacts_2d(ft, fa, fb, tol, scene.thickness)
+    else:
+        res = _contacts_3d(ft, fa, fb, tol)
+    ok, fields = res
+    pair = pair[ok]
+    a, b = pa[pair], pb[pair]
+    # At most one interface per block pair (convex blocks): keep the largest.
+    order = np.lexsort((-fields["area"], b, a))
+    first = np.ones(len(order), bool)
+    first[1:] = (a[order][1:] != a[order][:-1]) | (b[order][1:] != b[order][:-1])
+    sel = order[first]
+    sel = sel[np.lexsort((b[sel], a[sel]))]
+    mu = np.full(len(sel), scene.friction)
+    if scene.friction_pairs:
+        for k, (i, j) in enumerate(zip(a[sel], b[sel])):
+            key = (min(i, j), max(i, j))
+            if key in scene.friction_pairs:
+                mu[k] = scene.friction_pairs[key]
+    return Interfaces(
+        dim=d, a=a[sel], b=b[sel],
+        normal=fields["normal"][sel], t1=fields["t1"][sel],
+        t2=None if d == 2 else fields["t2"][sel],
+        centroid=fields["centroid"][sel], area=fields["area"][sel],
+        l1=fields["l1"][sel], l2=fields["l2"][sel], is_rect=fields["is_rect"][sel],
+        polygons=[fields["polygons"][k] for k in sel], local=[fields["local"][k] for k in sel],
+        mu=mu,
+    )
+
+
+def _facing_faces(ft, pa, pb, tol):
+    """Face pairs (fa of block pa, fb of block pb) that are coplanar and anti-parallel."""
+    na = ft.ptr[pa + 1] - ft.ptr[pa]
+    nb = ft.ptr[pb + 1] - ft.ptr[pb]
+    cnt = na * nb
+    pair = np.repeat(np.arange(len(pa)), cnt)
+    k = np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    fa = ft.ptr[pa][pair] + k // nb[pair]
+    fb = ft.ptr[pb][pair] + k % nb[pair]
+    dot = np.einsum("ij,ij->i", ft.normal[fa], ft.normal[fb])
+    gap = np.einsum("ij,ij->i", ft.normal[fa], ft.point[fb] - ft.point[fa])  # distance between the planes
+    ok = (dot < -(1.0 - ANGLE_TOL)) & (np.abs(gap) <= tol)
+    return fa[ok], fb[ok], pair[ok]
+
+
+def _contacts_2d(ft, fa, fb, tol, thickness):
+    n = ft.normal[fa]
+    t = np.column_stack([n[:, 1], -n[:, 0]])
+    sa = np.einsum("ikd,id->ik", ft.verts[fa], t)
+    sb = np.einsum("ikd,id->ik", ft.verts[fb], t)
+    lo = np.maximum(sa.min(1), sb.min(1))
+    hi = np.minimum(sa.max(1), sb.max(1))
+    ok = hi - lo > tol
+    n, t, lo, hi = n[ok], t[ok], lo[ok], hi[ok]
+    fa, fb = fa[ok], fb[ok]
+    # The contact line: midway between the two (coincident within tol) face lines.
+    o = ft.point[fa] + 0.5 * n * np.einsum("ij,ij->i", n, ft.point[fb] - ft.point[fa])[:, None]
+    mid = 0.5 * (lo + hi) - np.einsum("ij,ij->i", o, t)
+    centroid = o + t * mid[:, None]
+    half = 0.5 * (hi - lo)
+    p0 = centroid - t * half[:, None]
+    p1 = centroid + t * half[:, None]
+    m = len(fa)
+    fields = dict(
+        normal=n, t1=t, centroid=centroid, area=2 * half * thickness, l1=half,
+        l2=np.full(m, 0.5 * thickness), is_rect=np.ones(m, bool),
+        polygons=[np.array([x, y]) for x, y in zip(p0, p1)],
+        local=[np.array([[-h], [h]]) for h in half],
+    )
+    return ok, fields
+
+
+def _contacts_3d(ft, fa, fb, tol):
+    n = ft.normal[fa]
+    m = len(fa)
+    # In-plane basis e1, e2 (e1 x e2 = n), vectorised plane_basis.
+    ax = np.eye(3)[np.argmin(np.abs(n), axis=1)]
+    e1 = np.cross(ax, n)
+    e1 /= np.linalg.norm(e1, axis=1)[:, None]
+    e2 = np.cross(n, e1)
+    # Local origin on the contact plane (midway between the two face planes), near the
+    # face: small in-plane coordinates keep the polygon arithmetic accurate.
+    o = ft.point[fa] + 0.5 * n * np.einsum("ij,ij->i", n, ft.point[fb] - ft.point[fa])[:, None]
+
+    def project(faces):
+        V = ft.verts[faces] - o[:, None, :]
+        return np.stack([np.einsum("ikd,id->ik", V, e1), np.einsum("ikd,id->ik", V, e2)], axis=-1)
+
+    ua, ub = project(fa), project(fb)
+    polys = [None] * m
+    ka_all, kb_all = ft.nvert[fa], ft.nvert[fb]
+    for ka, kb in {(int(x), int(y)) for x, y in zip(ka_all, kb_all)}:
+        rows = np.flatnonzero((ka_all == ka) & (kb_all == kb))
+        # Face a is counter-clockwise about n in (e1, e2); face b about -n, so reverse it.
+        res = clip.intersect(ua[rows, :ka], ub[rows, :kb][:, ::-1], tol)
+        for r, p in zip(rows, res):
+            polys[r] = p
+    nv = np.array([len(p) for p in polys])
+    area = np.zeros(m)
+    diam = np.ones(m)
+    for r in np.flatnonzero(nv >= 3):
+        p = polys[r]
+        q = np.roll(p, -1, axis=0)
+        area[r] = 0.5 * np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1])
+        diam[r] = np.linalg.norm(np.ptp(p, axis=0))
+    # Positive area and a width (area / diameter) above the tolerance.
+    ok = (nv >= 3) & (area / diam > tol)
+    idx = np.flatnonzero(ok)
+    counts = nv[idx]
+    starts = np.cumsum(counts) - counts
+    coords = np.vstack([polys[r] for r in idx]) if len(idx) else np.empty((0, 2))
+    n, e1, e2, o = n[idx], e1[idx], e2[idx], o[idx]
+
+    nk = counts
+    mm = len(idx)
+    A = np.empty(mm)
+    C = np.empty((mm, 2))
+    t1 = np.empty((mm, 3))
+    l1 = np.empty(mm)
+    l2 = np.empty(mm)
+    is_rect = np.zeros(mm, bool)
+    local = [None] * mm
+    world = [None] * mm
+    corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    for k in np.unique(nk):
+        rows = np.flatnonzero(nk == k)
+        P = coords[starts[rows][:, None] + np.arange(k)]  # (r, k, 2)
+        Pn = np.roll(P, -1, axis=1)
+        cr = P[..., 0] * Pn[..., 1] - Pn[..., 0] * P[..., 1]
+        flip = cr.sum(axis=1) < 0  # make every polygon counter-clockwise about n
+        P[flip] = P[flip, ::-1]
+        Pn = np.roll(P, -1, axis=1)
+        cr = P[..., 0] * Pn[..., 1] - Pn[..., 0] * P[..., 1]
+        a, cen, I = _moments(P, Pn, cr)
+        rel = P - cen[:, None, :]
+        rect, u_rect, box_c, half = _rectangle_fit(rel, a, tol)
+        u = np.where(rect[:, None], u_rect, _principal_direction(I))
+        u = np.where((u[:, :1] < -1e-12) | ((np.abs(u[:, :1]) <= 1e-12) & (u[:, 1:] < 0)), -u, u)
+        w = np.column_stack([-u[:, 1], u[:, 0]])
+        cen = cen + np.where(rect[:, None], box_c, 0.0)  # a rectangle is snapped to its exact box
+        A[rows], C[rows], is_rect[rows] = a, cen, rect
+        t1[rows] = u[:, :1] * e1[rows] + u[:, 1:] * e2[rows]
+        for j, r in enumerate(rows):
+            if rect[j]:
+                loc = corners * half[j]
+            else:
+                q = rel[j]
+                loc = np.column_stack([q @ u[j], q @ w[j]])
+            l1[r], l2[r] = 0.5 * np.ptp(loc, axis=0)
+            local[r] = loc
+            plane = cen[j] + loc[:, :1] * u[j] + loc[:, 1:] * w[j]  # (e1, e2) coordinates
+            world[r] = o[r] + plane[:, :1] * e1[r] + plane[:, 1:] * e2[r]
+    cen3 = o + e1 * C[:, :1] + e2 * C[:, 1:]
+    t2 = np.cross(n, t1)
+    ok_full = np.zeros(m, bool)
+    ok_full[idx] = True
+    fields = dict(normal=n, t1=t1, t2=t2, centroid=cen3, area=A, l1=l1, l2=l2,
+                  is_rect=is_rect, polygons=world, local=local)
+    return ok_full, fields
+
+
+def _moments(P, Pn, cr):
+    """Area (r,), centroid (r, 2) and central second-moment tensor int(x x^T)dA (r, 2, 2)
+    of counter-clockwise polygons P (r, k, 2); Pn is P rolled by one vertex, cr the
+    edge cross products."""
+    x, y, xn, yn = P[..., 0], P[..., 1], Pn[..., 0], Pn[..., 1]
+    a = 0.5 * cr.sum(axis=1)
+    cx = ((x + xn) * cr).sum(axis=1) / (6 * a)
+    cy = ((y + yn) * cr).sum(axis=1) / (6 * a)
+    ixx = ((x * x + x * xn + xn * xn) * cr).sum(axis=1) / 12 - a * cx * cx
+    iyy = ((y * y + y * yn + yn * yn) * cr).sum(axis=1) / 12 - a * cy * cy
+    ixy = ((x * yn + 2 * x * y + 2 * xn * yn + xn * y) * cr).sum(axis=1) / 24 - a * cx * cy
+    I = np.stack([np.stack([ixx, ixy], -1), np.stack([ixy, iyy], -1)], -2)
+    return a, np.column_stack([cx, cy]), I
+
+
+def _principal_direction(I):
+    """Unit axis of largest spread (largest eigenvalue of int x x^T dA), (r, 2)."""
+    w, v = np.linalg.eigh(I)
+    return v[:, :, 1]
+
+
+def _rectangle_fit(rel, area, tol):
+    """Which polygons (r, k, 2) are rectangles within the length tolerance ``tol``.
+
+    The candidate rectangle is the bounding box aligned with the polygon's longest
+    edge; the polygon counts as that rectangle when the box exceeds its area by no
+    more than a strip of width ``tol`` around the perimeter. Returns
+    (is_rect (r,), unit direction of the box's longer side (r, 2),
+    box centre relative to the polygon centroid (r, 2), half sides (r, 2) with
+    the longer first).
+    """
+    r = np.arange(len(rel))
+    e = np.roll(rel, -1, axis=1) - rel
+    L = np.linalg.norm(e, axis=2)
+    j = np.argmax(L, axis=1)
+    u = e[r, j] / L[r, j][:, None]
+    w = np.column_stack([-u[:, 1], u[:, 0]])
+    pu = np.einsum("rkj,rj->rk", rel, u)
+    pw = np.einsum("rkj,rj->rk", rel, w)
+    su, sw = np.ptp(pu, axis=1), np.ptp(pw, axis=1)
+    rect = (su * sw - area) <= 2.0 * tol * (su + sw)
+    ctr = (0.5 * (pu.max(1) + pu.min(1)))[:, None] * u + (0.5 * (pw.max(1) + pw.min(1)))[:, None] * w
+    swap = sw > su * (1 + 1e-9)
+    u = np.where(swap[:, None], w, u)
+    half = 0.5 * np.where(swap[:, None], np.column_stack([sw, su]), np.column_stack([su, sw]))
+    return rect, u, ctr, half

@@ -1,0 +1,1 @@
+"""The validation run over the scene catalog and the comparison report."""

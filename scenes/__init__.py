@@ -1,0 +1,1 @@
+"""Scene builders and the catalog of block assemblies (JSON files in scenes/catalog/)."""

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Make a fresh Debian 12 machine ready: the Debian packages the project needs
+# (python3-venv, yade) and a virtual environment with the pinned Python packages.
+# Idempotent: reruns only install what is missing or what pyproject.toml changed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+VENV=${VENV:-.venv}
+PYTHON=${PYTHON:-python3}
+
+as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+apt_updated=0
+apt_install() {
+    if [ "$apt_updated" = 0 ]; then
+        echo "bootstrap: apt-get update" >&2
+        as_root apt-get update -qq
+        apt_updated=1
+    fi
+    echo "bootstrap: apt-get install $*" >&2
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+}
+
+if ! command -v "$PYTHON" >/dev/null; then apt_install python3; fi
+if ! "$PYTHON" -c 'import venv, ensurepip' 2>/dev/null; then apt_install python3-venv; fi
+if ! command -v yade >/dev/null; then apt_install yade; fi
+
+stamp="$VENV/.installed"
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+    if [ ! -x "$VENV/bin/python" ]; then
+        echo "bootstrap: creating $VENV" >&2
+        "$PYTHON" -m venv "$VENV"
+    fi
+    echo "bootstrap: installing the pinned packages into $VENV" >&2
+    "$VENV/bin/python" -m pip install -q --upgrade pip
+    "$VENV/bin/python" -m pip install -q -e ".[test]"
+    touch "$stamp"
+fi
