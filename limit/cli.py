@@ -18,7 +18,43 @@ def _parser() -> argparse.ArgumentParser:
     pi = sub.add_parser("info", help="check a scene and print its counts, mass and bounding box")
     pi.add_argument("scene")
     pi.add_argument("--json", metavar="OUT.json", help="also write the summary as JSON")
+    ps = sub.add_parser("solve", help="limit analysis: the collapse load factor and mechanism")
+    ps.add_argument("scene")
+    ps.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
+                    help="lp: associative bound only; nlp: LP then the frictional NLP; auto (default): NLP only where needed")
+    ps.add_argument("--json", metavar="OUT.json", help="write the result file (CONTRACT section 3)")
+    ps.add_argument("--solver", choices=["clarabel", "ecos", "highs", "highs-ipm"], default="clarabel",
+                    help="LP solver (default clarabel); a failed check falls back to another")
+    ps.add_argument("--no-fallback", action="store_true", help="do not retry a failed LP with another solver")
+    ps.add_argument("--model", choices=["paper", "vertex"], default="paper",
+                    help="interface model: paper's yield domain (default) or point contacts at the vertices")
+    ps.add_argument("--slide-faces", type=int, default=4, metavar="K",
+                    help="sliding faces per 3D interface (even, >= 4; 4 = the paper's two directions)")
+    ps.add_argument("--slide-fit", choices=["auto", "circumscribed", "inscribed"], default="auto",
+                    help="friction polygon around (paper) or inside the friction circle; auto: paper for 4 faces, inscribed above")
+    ps.add_argument("--check-kinematic", action="store_true",
+                    help="also solve the kinematic LP and record its alpha (duality check)")
     return p
+
+
+def cmd_solve(args) -> int:
+    from . import jsonio
+    from .analysis import analyse, public
+    from .assemble import Options
+    from .scene import load_scene
+    from .summary import format_result
+
+    if args.slide_faces < 4 or args.slide_faces % 2:
+        raise SceneError(f"--slide-faces: must be an even number >= 4, got {args.slide_faces}")
+    scene = load_scene(args.scene)
+    opts = Options(model=args.model, n_slide=args.slide_faces, slide_fit=args.slide_fit)
+    res = analyse(scene, method=args.method, options=opts, solver=args.solver,
+                  fallback=not args.no_fallback, check_kinematic=args.check_kinematic)
+    print(format_result(res))
+    if args.json:
+        jsonio.write_json(args.json, public(res))
+    failed = res["lp"]["status"] == "failed" or res.get("nlp", {}).get("status") == "failed"
+    return 1 if failed else 0
 
 
 def cmd_info(args) -> int:
@@ -34,7 +70,7 @@ def cmd_info(args) -> int:
     return 0
 
 
-COMMANDS = {"info": cmd_info}
+COMMANDS = {"info": cmd_info, "solve": cmd_solve}
 
 
 def main(argv=None) -> int:
@@ -44,6 +80,8 @@ def main(argv=None) -> int:
     except SceneError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # e.g. piped into head
+        return 0
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

@@ -1,0 +1,102 @@
+"""From a scene to the matrices of the limit analysis problems, with their scaling.
+
+Notation (all unscaled, SI units):
+
+* ``u`` (n_dof,) free-block velocities (:mod:`limit.kinematics`),
+  ``B`` (m nq, n_dof) the compatibility matrix, ``q = B u``.
+* ``x`` (n_x,) interface actions of the chosen model (:mod:`limit.yield_domain`),
+  ``r = H x`` the interface generalised stresses.
+* Equilibrium: ``E x + f0 + alpha fL = 0`` with ``E = B.T H`` (= ``A.T``).
+* Yield: ``Y x <= 0``. Flow: associative ``A u = -Y.T lam``, non-associative
+  ``A u = G lam``, with ``A = H.T B``.
+
+Scaling (what the solvers see): variables ``x = Dx * xh`` with each interface's
+force components divided by an estimate of its normal force
+(:mod:`limit.scaling`) and its moments by that force times the contact's half
+size; every equilibrium row (``Df``) and every yield row (``Sy``) divided by
+its largest coefficient after that. So neither the units, the scene's size,
+the spread of forces between the top and the foot of a wall, nor a large
+friction coefficient set the conditioning. Scaled quantities carry an ``h``.
+``Lc`` (median free-block size, m) and ``Wc`` (mean free-block weight, N) are
+the scene's characteristic length and force.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import kinematics, loads, scaling, yield_domain
+from .interfaces import Interfaces, find_interfaces
+
+
+@dataclass
+class Options:
+    """Modelling options. ``model``: "paper" or "vertex" interfaces; ``n_slide``:
+    sliding faces per interface (3D; 4 is the paper's); ``slide_fit``:
+    "auto" | "circumscribed" | "inscribed" (see :mod:`limit.yield_domain`)."""
+
+    model: str = "paper"
+    n_slide: int = 4
+    slide_fit: str = "auto"
+
+
+@dataclass
+class Assembled:
+    scene: object
+    I: Interfaces
+    model: yield_domain.InterfaceModel
+    options: Options
+    B: sp.csr_matrix
+    A: sp.csr_matrix          # (n_x, n_dof) = H.T B
+    f0: np.ndarray            # (n_dof,)
+    fL: np.ndarray            # (n_dof,)
+    Lc: float
+    Wc: float
+    Dx: np.ndarray            # (n_x,)
+    Df: np.ndarray            # (n_dof,)
+    Sy: np.ndarray            # (n_faces,) yield row scale: Yh = diag(1/Sy) Y diag(Dx)
+    Eh: sp.csr_matrix         # (n_dof, n_x) scaled equilibrium
+    Yh: sp.csr_matrix         # (n_faces, n_x) scaled yield
+    f0h: np.ndarray
+    fLh: np.ndarray
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def n_dof(self) -> int:
+        return self.B.shape[1]
+
+
+def assemble(scene, options: Options | None = None, interfaces: Interfaces | None = None) -> Assembled:
+    """Build every matrix of the problem for ``scene`` (timings in ``.timings``, seconds)."""
+    options = options or Options()
+    t0 = time.perf_counter()
+    I = find_interfaces(scene) if interfaces is None else interfaces
+    t1 = time.perf_counter()
+    B = kinematics.compatibility(scene, I)
+    model = yield_domain.build(I, options.model, options.n_slide, options.slide_fit)
+    A = (model.H.T @ B).tocsr()
+    f0, fL = (f.ravel() for f in loads.dead_and_live(scene))
+
+    free = scene.free
+    sizes = np.array([np.ptp(scene.blocks[i].poly.vertices, axis=0).max() for i in free]) if len(free) else np.ones(1)
+    Lc = float(np.median(sizes))
+    g = float(np.linalg.norm(scene.gravity))
+    Wc = float(np.mean([scene.blocks[i].mass for i in free]) * g) if len(free) else 1.0
+    # Variables scaled by each interface's estimated force (moments by force x half size of the contact),
+    # equilibrium rows by their largest coefficient after that (see limit.scaling).
+    s_k = scaling.normal_force_estimate(scene, I, f0, fL)
+    half = I.l1 if scene.dim == 2 else 0.5 * np.sqrt(np.maximum(I.area, 1e-300))
+    Dx = s_k[model.x_iface] * np.where(model.x_is_moment, half[model.x_iface], 1.0)
+    E = A.T.tocsr()
+    E1 = (E @ sp.diags(Dx)).tocsr()
+    Df = np.maximum(abs(E1).max(axis=1).toarray().ravel(), 1e-300) if E1.shape[0] else np.ones(0)
+    Eh = (sp.diags(1.0 / Df) @ E1).tocsr()
+    Y1 = (model.Y @ sp.diags(Dx)).tocsr()
+    Sy = np.maximum(abs(Y1).max(axis=1).toarray().ravel(), 1e-300)
+    Yh = (sp.diags(1.0 / Sy) @ Y1).tocsr()
+    t2 = time.perf_counter()
+    return Assembled(scene, I, model, options, B, A, f0, fL, Lc, Wc, Dx, Df, Sy, Eh, Yh,
+                     f0 / Df, fL / Df, {"interfaces_s": t1 - t0, "assembly_s": t2 - t1})

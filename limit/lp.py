@@ -1,0 +1,135 @@
+"""Step 1: the associative (dilatant) limit analysis as linear programs, with cvxpy.
+
+Static LP (lower-bound form, gives the contact actions)::
+
+    maximise alpha  s.t.  Eh xh + alpha fLh = -f0h,   Yh xh <= 0
+
+Kinematic LP (upper-bound form, gives the mechanism)::
+
+    minimise -f0h . vh  s.t.  Eh.T vh + Yh.T lamh = 0,  fLh . vh = 1,  lamh >= 0
+
+Both are built in matrix form (one sparse matrix per constraint block) on the
+scaled problem of :mod:`limit.assemble`. They are each other's duals: the
+static LP's equality multipliers are the mechanism vh and its inequality
+multipliers the plastic multipliers lamh, so one static solve yields the
+mechanism too; the kinematic LP is solved on request as an independent check.
+Unscaled: ``u = vh / Df`` (normalised to unit work of the live load,
+``fL . u = 1``), ``lam = lamh / Sy``, ``x = Dx xh``.
+
+Solvers (cvxpy): ``clarabel`` (default; interior point, qdldl factorisation),
+``ecos``, ``highs`` (HiGHS's own choice, dual simplex on LPs) and ``highs-ipm``.
+The defaults were chosen from ``make bench`` (see bench/lp_bench.py).
+A solver's inaccurate or unknown status is never reported as optimal.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import cvxpy as cp
+import numpy as np
+
+from .assemble import Assembled
+
+#: solver name -> (cvxpy solver, options)
+SOLVERS = {
+    "clarabel": ("CLARABEL", {"direct_solve_method": "qdldl", "tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10,
+                              "tol_feas": 1e-10, "tol_ktratio": 1e-8, "max_iter": 500}),
+    "ecos": ("ECOS", {"abstol": 1e-9, "reltol": 1e-9, "feastol": 1e-9, "max_iters": 500}),
+    "highs": ("HIGHS", {}),
+    "highs-ipm": ("HIGHS", {"highs_options": {"solver": "ipm", "run_crossover": "off"}}),
+}
+DEFAULT_SOLVER = "clarabel"
+#: solvers tried in turn when an answer fails its verification
+FALLBACK = {"clarabel": ["highs-ipm", "ecos"], "ecos": ["clarabel"], "highs": ["clarabel"],
+            "highs-ipm": ["clarabel"]}
+
+
+@dataclass
+class LPSolution:
+    """Result of one LP solve (unscaled quantities; None where the status has none)."""
+
+    status: str                      # optimal | unbounded | infeasible | inaccurate | failed
+    alpha: float | None = None
+    x: np.ndarray | None = None      # interface actions (model components)
+    u: np.ndarray | None = None      # mechanism, fL . u = 1
+    lam: np.ndarray | None = None    # plastic multipliers, >= 0
+    solver: str = ""
+    cvxpy_status: str = ""
+    reason: str = ""
+    timings: dict = field(default_factory=dict)
+    form: str = "static"
+
+
+def _solve(prob: cp.Problem, solver: str) -> tuple[str, dict]:
+    name, opts = SOLVERS[solver]
+    t0 = time.perf_counter()
+    try:
+        prob.solve(solver=name, **opts)
+        status = prob.status
+    except cp.error.SolverError as exc:
+        status = f"solver_error: {exc}"
+    total = time.perf_counter() - t0
+    stats = prob.solver_stats
+    solve_t = getattr(stats, "solve_time", None) if stats is not None else None
+    compile_t = getattr(prob, "compilation_time", None)
+    t = {"compile_s": compile_t if compile_t is not None else float("nan"),
+         "solve_s": solve_t if solve_t is not None else float("nan"), "cvxpy_total_s": total}
+    return status, t
+
+
+def _map_status(status: str) -> tuple[str, str]:
+    if status == cp.OPTIMAL:
+        return "optimal", ""
+    if status == cp.UNBOUNDED:
+        return "unbounded", ""
+    if status == cp.INFEASIBLE:
+        return "infeasible", ""
+    if status in (cp.OPTIMAL_INACCURATE, cp.UNBOUNDED_INACCURATE, cp.INFEASIBLE_INACCURATE):
+        return "inaccurate", f"the solver reported {status}"
+    return "failed", f"the solver reported {status}"
+
+
+def static_lp(P: Assembled, solver: str = DEFAULT_SOLVER) -> LPSolution:
+    """Maximise alpha over statically admissible interface actions."""
+    xh = cp.Variable(P.model.n_x)
+    a = cp.Variable()
+    eq = P.Eh @ xh + P.fLh * a == -P.f0h
+    ineq = P.Yh @ xh <= 0
+    prob = cp.Problem(cp.Maximize(a), [eq, ineq])
+    status, t = _solve(prob, solver)
+    st, reason = _map_status(status)
+    sol = LPSolution(st, solver=solver, cvxpy_status=str(status), reason=reason, timings=t, form="static")
+    if st in ("optimal", "inaccurate") and xh.value is not None and eq.dual_value is not None:
+        sol.alpha = float(a.value)
+        sol.x = P.Dx * xh.value
+        vh = np.asarray(eq.dual_value, dtype=float)
+        u = vh / P.Df
+        work = float(P.fL @ u)
+        if work != 0 and np.isfinite(work):
+            u = u / work
+        sol.u = u
+        sol.lam = np.asarray(ineq.dual_value, dtype=float) / P.Sy / (work if work else 1.0)
+    return sol
+
+
+def kinematic_lp(P: Assembled, solver: str = DEFAULT_SOLVER) -> LPSolution:
+    """Minimise the dead-load resistance over mechanisms with unit live-load work."""
+    vh = cp.Variable(P.n_dof)
+    lamh = cp.Variable(P.model.n_faces, nonneg=True)
+    comp = P.Eh.T @ vh + P.Yh.T @ lamh == 0
+    norm = P.fLh @ vh == 1
+    prob = cp.Problem(cp.Minimize(-P.f0h @ vh), [comp, norm])
+    status, t = _solve(prob, solver)
+    st, reason = _map_status(status)
+    # The kinematic LP is the dual: its "infeasible" means no mechanism (static unbounded) and
+    # "unbounded" means collapse under the dead load (static infeasible).
+    st = {"infeasible": "unbounded", "unbounded": "infeasible"}.get(st, st)
+    sol = LPSolution(st, solver=solver, cvxpy_status=str(status), reason=reason, timings=t, form="kinematic")
+    if st in ("optimal", "inaccurate") and vh.value is not None:
+        sol.u = vh.value / P.Df
+        sol.lam = lamh.value / P.Sy
+        sol.alpha = float(-P.f0 @ sol.u)
+        if comp.dual_value is not None:
+            sol.x = -P.Dx * np.asarray(comp.dual_value, dtype=float)
+    return sol

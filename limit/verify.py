@@ -1,0 +1,71 @@
+"""A posteriori checks of a limit-analysis answer, independent of the solver's status.
+
+All residuals are measured on the scaled problem (forces in units of the mean
+block weight Wc, moments in Wc Lc, mechanism normalised to unit live-load
+work), so the tolerances below are dimensionless:
+
+* equilibrium  ``|E x + f0 + alpha fL|_inf``            <= TOL_EQ
+* yield        ``max(Yh xh)`` (rows of unit largest coefficient) <= TOL_YIELD
+* compatibility ``|A u + Y.T lam|_inf`` (associative) or ``|A u - G lam|``
+  (non-associative), relative to the largest term       <= TOL_KIN
+* multipliers  ``min(lam)``                              >= -TOL_KIN
+* normalisation ``|fL . u - 1|``                         <= TOL_KIN
+* duality gap  ``|alpha - (-f0 . u - dissipation)| / max(1, |alpha|)`` <= TOL_GAP
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+TOL_EQ = 1e-6
+TOL_YIELD = 1e-6
+TOL_KIN = 1e-6
+TOL_GAP = 1e-6
+
+
+def _inf(v) -> float:
+    v = np.asarray(v)
+    return float(np.abs(v).max()) if v.size else 0.0
+
+
+def static_residuals(P, alpha, x) -> dict:
+    """Equilibrium and yield residuals of interface actions x at load factor alpha."""
+    xh = x / P.Dx
+    eq = P.Eh @ xh + P.f0h + alpha * P.fLh
+    y = P.Yh @ xh
+    return {"equilibrium": _inf(eq), "yield": float(max(y.max(), 0.0)) if y.size else 0.0}
+
+
+def kinematic_residuals(P, u, lam, flow: str = "associative") -> dict:
+    """Compatibility, sign and normalisation residuals of a mechanism (u, lam)."""
+    vh = u * P.Df
+    lamh = lam * P.Sy
+    if flow == "associative":
+        terms = (P.Eh.T @ vh, P.Yh.T @ lamh)
+        res = terms[0] + terms[1]
+    else:
+        Gh = (sp.diags(1.0 / P.Dx) @ P.model.G @ sp.diags(1.0 / P.Sy)).tocsr()  # flow in scaled x-space
+        terms = (P.Eh.T @ vh, Gh @ lamh)
+        res = terms[0] - terms[1]
+    scale = max(_inf(terms[0]), _inf(terms[1]), 1.0)
+    return {"compatibility": _inf(res) / scale, "multipliers": float(max(-lamh.min(), 0.0)) if lamh.size else 0.0,
+            "normalisation": abs(float(P.fL @ u) - 1.0)}
+
+
+def check_lp(P, sol) -> tuple[bool, dict, str]:
+    """Verify an associative LP solution with both its stresses and its mechanism.
+
+    Returns (ok, residuals, reason). The duality gap compares the static alpha
+    with the kinematic value -f0 . u of the mechanism.
+    """
+    if sol.alpha is None or sol.x is None or sol.u is None or sol.lam is None:
+        return False, {}, "no solution to check"
+    r = static_residuals(P, sol.alpha, sol.x)
+    r.update(kinematic_residuals(P, sol.u, sol.lam, "associative"))
+    alpha_kin = float(-P.f0 @ sol.u)
+    r["alpha_kinematic"] = alpha_kin
+    r["duality_gap"] = abs(sol.alpha - alpha_kin) / max(1.0, abs(sol.alpha))
+    limits = {"equilibrium": TOL_EQ, "yield": TOL_YIELD, "compatibility": TOL_KIN, "multipliers": TOL_KIN,
+              "normalisation": TOL_KIN, "duality_gap": TOL_GAP}
+    bad = [f"{k} residual {r[k]:.2e} > {lim:.0e}" for k, lim in limits.items() if not (r[k] <= lim)]
+    return not bad, r, "; ".join(bad)

@@ -1,0 +1,243 @@
+"""Interface yield domains: the constraints ``Y x <= 0`` on the interface actions x.
+
+Two interface models share one interface, :class:`InterfaceModel`:
+
+``"paper"`` (default): Baggio & Trovalusci's domain in the generalised stresses
+  of :mod:`limit.kinematics` (x = r, per interface 2D ``[V, N, M]``, 3D
+  ``[V1, V2, N, M1, M2, T]``). Faces per interface:
+
+  * rocking, one face per edge of the contact polygon: the normal resultant
+    stays inside the polygon (no tension). For the edge with outward normal
+    ``a`` (local t1, t2 axes) at distance ``b`` from the centroid, the resultant
+    point ``x = (-M2/N, M1/N)`` obeys ``a . x <= b``:
+    ``-N + (a2 M1 - a1 M2) / b <= 0``. A rectangle gives the paper's four faces
+    |M1| <= l2 N, |M2| <= l1 N; a 2D segment gives |M| <= l N (two faces).
+  * sliding, ``n_slide`` faces ``d_j . V <= c mu N`` with directions d_j at
+    angles j 2 pi / n_slide in the (t1, t2) plane. n_slide = 4, c = 1 is the
+    paper (|V1| <= mu N, |V2| <= mu N: over-strong by up to sqrt 2 for sliding at
+    45 degrees). With ``slide_fit="inscribed"`` c = cos(pi / n_slide): the
+    polygon lies inside the friction circle (never over-strong; under-strength
+    at most 1 - cos(pi / n_slide), e.g. 1.9 % for 16 faces). 2D: two faces.
+  * twisting (3D), two faces |T| <= beta l mu N with beta = 2/3 and
+    l = l1 + l2 (the paper: uniform pressure on a circle of radius l). For a
+    non-rectangular polygon l1, l2 are its half extents along its principal
+    axes (:mod:`limit.interfaces`), which reduces to the paper's l1, l2 for a
+    rectangle.
+
+``"vertex"``: point contacts at the vertices of each contact polygon (2D: the
+  two ends of the segment), each with its own normal force ``fn >= 0`` and a
+  linearised friction pyramid (``n_slide`` faces as above) on its tangential
+  force. x holds, per vertex, 2D ``[ft, fn]``, 3D ``[f1, f2, fn]`` in the
+  interface's local frame; ``H`` sums them into the interface resultants r.
+
+Flow rules: associative ``q = -Y^T lambda`` (normality: sliding dilates by mu);
+non-associative ``q = G lambda``: the same columns with the normal component
+of sliding and twisting faces removed (no dilatancy).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+ROCK, SLIDE, TWIST, NORMAL = 0, 1, 2, 3
+KIND_NAMES = {ROCK: "rock", SLIDE: "slide", TWIST: "twist", NORMAL: "normal"}
+BETA = 2.0 / 3.0
+
+
+@dataclass
+class InterfaceModel:
+    """Yield domain and flow rules of all interfaces.
+
+    Y : (n_faces, n_x) sparse, the yield faces ``Y @ x <= 0``.
+    G : (n_x, n_faces) sparse, non-associative flow directions.
+    H : (m * nq, n_x) sparse, interface actions x -> generalised stresses r.
+    kind : (n_faces,) face kind (ROCK, SLIDE, TWIST, NORMAL).
+    iface : (n_faces,) interface of each face.
+    x_iface : (n_x,) interface of each action component.
+    x_is_moment : (n_x,) True where the component is a moment (N m).
+    normal_col : (n_x,) True where the component is a normal force.
+    """
+
+    name: str
+    Y: sp.csr_matrix
+    G: sp.csr_matrix
+    H: sp.csr_matrix
+    kind: np.ndarray
+    iface: np.ndarray
+    x_iface: np.ndarray
+    x_is_moment: np.ndarray
+    normal_col: np.ndarray
+
+    @property
+    def n_faces(self) -> int:
+        return self.Y.shape[0]
+
+    @property
+    def n_x(self) -> int:
+        return self.Y.shape[1]
+
+
+def _slide_dirs(n_slide: int, fit: str):
+    th = 2 * np.pi * np.arange(n_slide) / n_slide
+    c = 1.0 if fit == "circumscribed" else np.cos(np.pi / n_slide)
+    return np.column_stack([np.cos(th), np.sin(th)]), c
+
+
+def resolve_fit(n_slide: int, fit: str) -> str:
+    if fit == "auto":
+        return "circumscribed" if n_slide == 4 else "inscribed"
+    if fit not in ("circumscribed", "inscribed"):
+        raise ValueError(f"slide_fit must be auto, circumscribed or inscribed, not {fit!r}")
+    return fit
+
+
+def build(I, model: str = "paper", n_slide: int = 4, slide_fit: str = "auto") -> InterfaceModel:
+    """The interface model for interfaces ``I`` (:class:`limit.interfaces.Interfaces`)."""
+    if n_slide < 4 or n_slide % 2:
+        raise ValueError("n_slide must be an even number >= 4")
+    fit = resolve_fit(n_slide, slide_fit)
+    if model == "paper":
+        return _paper(I, n_slide, fit)
+    if model == "vertex":
+        return _vertex(I, n_slide, fit)
+    raise ValueError(f"unknown interface model {model!r} (paper or vertex)")
+
+
+class _Rows:
+    """Accumulates sparse rows (faces) and their flow columns."""
+
+    def __init__(self):
+        self.r, self.c, self.v = [], [], []
+        self.gr, self.gc, self.gv = [], [], []
+        self.kind, self.iface = [], []
+        self.n = 0
+
+    def add(self, cols, vals, kind, iface, normal_cols):
+        """Faces given as (nf, k) column indices and values; normal_cols (nf,) for G."""
+        cols = np.asarray(cols)
+        vals = np.asarray(vals, dtype=float)
+        nf = cols.shape[0]
+        rid = self.n + np.arange(nf)
+        self.r.append(np.repeat(rid, cols.shape[1]))
+        self.c.append(cols.ravel())
+        self.v.append(vals.ravel())
+        # Non-associative flow: -row, without the normal component for sliding / twisting.
+        g = -vals.copy()
+        if kind in (SLIDE, TWIST):
+            g[cols == np.asarray(normal_cols)[:, None]] = 0.0
+        self.gr.append(cols.ravel())
+        self.gc.append(np.repeat(rid, cols.shape[1]))
+        self.gv.append(g.ravel())
+        self.kind.append(np.full(nf, kind, np.int8))
+        self.iface.append(np.asarray(iface))
+        self.n += nf
+
+    def matrices(self, n_x):
+        cat = lambda a: np.concatenate(a) if a else np.empty(0)
+        Y = sp.csr_matrix((cat(self.v), (cat(self.r).astype(int), cat(self.c).astype(int))), shape=(self.n, n_x))
+        G = sp.csr_matrix((cat(self.gv), (cat(self.gr).astype(int), cat(self.gc).astype(int))), shape=(n_x, self.n))
+        Y.eliminate_zeros()
+        G.eliminate_zeros()
+        return Y, G, cat(self.kind).astype(np.int8), cat(self.iface).astype(int)
+
+
+def _edge_rows(loc):
+    """Outward unit normals a (k, 2) and distances b (k,) of a CCW polygon's edges."""
+    e = np.roll(loc, -1, axis=0) - loc
+    L = np.linalg.norm(e, axis=1)
+    a = np.column_stack([e[:, 1], -e[:, 0]]) / L[:, None]
+    b = np.einsum("ij,ij->i", a, loc)
+    keep = L > 1e-12 * L.max()
+    return a[keep], b[keep]
+
+
+def _paper(I, n_slide, fit) -> InterfaceModel:
+    m = len(I)
+    dim = I.dim
+    nq = 3 if dim == 2 else 6
+    k = np.arange(m)
+    mu = I.mu
+    rows = _Rows()
+    if dim == 2:
+        V, N, M = 0, 1, 2
+        l = I.l1
+        base = (k * nq)[:, None]
+        for sgn in (1.0, -1.0):  # rocking about the ends s = +l and s = -l: +-M <= l N
+            rows.add(base + [N, M], np.column_stack([-np.ones(m), sgn / l]), ROCK, k, k * nq + N)
+        for sgn in (1.0, -1.0):  # sliding: +-V <= mu N
+            rows.add(base + [V, N], np.column_stack([np.full(m, sgn), -mu]), SLIDE, k, k * nq + N)
+    else:
+        V1, V2, N, M1, M2, T = range(6)
+        cols, vals, owner = [], [], []
+        for kk in range(m):
+            a, b = _edge_rows(I.local[kk])
+            ne = len(b)
+            cols.append(kk * nq + np.tile([N, M1, M2], (ne, 1)))
+            vals.append(np.column_stack([-np.ones(ne), a[:, 1] / b, -a[:, 0] / b]))
+            owner.append(np.full(ne, kk))
+        rows.add(np.vstack(cols), np.vstack(vals), ROCK, np.concatenate(owner), np.concatenate(owner) * nq + N)
+        base = (k * nq)[:, None]
+        dirs, c = _slide_dirs(n_slide, fit)
+        for d in dirs:
+            rows.add(base + [V1, V2, N], np.column_stack([np.full(m, d[0]), np.full(m, d[1]), -c * mu]),
+                     SLIDE, k, k * nq + N)
+        lt = BETA * (I.l1 + I.l2) * mu
+        for sgn in (1.0, -1.0):
+            rows.add(base + [N, T], np.column_stack([-lt, np.full(m, sgn)]), TWIST, k, k * nq + N)
+    n_x = m * nq
+    Y, G, kind, iface = rows.matrices(n_x)
+    comp = np.tile(np.arange(nq), m)
+    is_moment = comp >= (2 if dim == 2 else 3)
+    normal = comp == (1 if dim == 2 else 2)
+    return InterfaceModel("paper", Y, G, sp.identity(n_x, format="csr"), kind, iface,
+                          np.repeat(k, nq), is_moment, normal)
+
+
+def _vertex(I, n_slide, fit) -> InterfaceModel:
+    m = len(I)
+    dim = I.dim
+    nq = 3 if dim == 2 else 6
+    nv = np.array([len(p) for p in I.local])
+    vptr = np.concatenate([[0], np.cumsum(nv)])
+    nvert = int(vptr[-1])
+    owner = np.repeat(np.arange(m), nv)
+    loc = np.vstack(I.local)  # (nvert, 1) in 2D, (nvert, 2) in 3D
+    rows = _Rows()
+    if dim == 2:
+        nc = 2  # [ft, fn]
+        x0 = np.arange(nvert) * nc
+        ft, fn = x0, x0 + 1
+        rows.add(fn[:, None], -np.ones((nvert, 1)), NORMAL, owner, fn)
+        for sgn in (1.0, -1.0):
+            rows.add(np.column_stack([ft, fn]), np.column_stack([np.full(nvert, sgn), -I.mu[owner]]),
+                     SLIDE, owner, fn)
+        s = loc[:, 0]
+        hr = np.concatenate([owner * nq + 0, owner * nq + 1, owner * nq + 2])
+        hc = np.concatenate([ft, fn, fn])
+        hv = np.concatenate([np.ones(nvert), np.ones(nvert), s])
+        is_moment = np.zeros(nvert * nc, bool)
+    else:
+        nc = 3  # [f1, f2, fn]
+        x0 = np.arange(nvert) * nc
+        f1, f2, fn = x0, x0 + 1, x0 + 2
+        rows.add(fn[:, None], -np.ones((nvert, 1)), NORMAL, owner, fn)
+        dirs, c = _slide_dirs(n_slide, fit)
+        for d in dirs:
+            rows.add(np.column_stack([f1, f2, fn]),
+                     np.column_stack([np.full(nvert, d[0]), np.full(nvert, d[1]), -c * I.mu[owner]]),
+                     SLIDE, owner, fn)
+        x1, x2 = loc[:, 0], loc[:, 1]
+        b = owner * nq
+        # r = [V1, V2, N, M1, M2, T] = [sum f1, sum f2, sum fn, sum x2 fn, -sum x1 fn, sum (x1 f2 - x2 f1)]
+        hr = np.concatenate([b, b + 1, b + 2, b + 3, b + 4, b + 5, b + 5])
+        hc = np.concatenate([f1, f2, fn, fn, fn, f2, f1])
+        hv = np.concatenate([np.ones(nvert), np.ones(nvert), np.ones(nvert), x2, -x1, x1, -x2])
+        is_moment = np.zeros(nvert * nc, bool)
+    n_x = nvert * nc
+    Y, G, kind, iface = rows.matrices(n_x)
+    H = sp.csr_matrix((hv, (hr, hc)), shape=(m * nq, n_x))
+    comp = np.tile(np.arange(nc), nvert)
+    normal = comp == nc - 1
+    return InterfaceModel("vertex", Y, G, H, kind, iface, np.repeat(owner, nc), is_moment, normal)

@@ -1,0 +1,12 @@
+"""Small helpers shared by the limit-analysis tests."""
+from limit.analysis import solve_lp
+from limit.assemble import Options, assemble
+from limit.scene import load_scene
+
+
+def lp_alpha(scene_dict, solver="clarabel", model="paper", check_kinematic=False, **opts):
+    """(alpha, solution, residuals) of the associative LP for a scene dict."""
+    P = assemble(load_scene(scene_dict), Options(model=model, **opts))
+    sol, attempts, res = solve_lp(P, solver, fallback=False, check_kinematic=check_kinematic)
+    assert sol.status == "optimal", (sol.status, sol.reason, attempts)
+    return sol.alpha, sol, res, P
