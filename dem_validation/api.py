@@ -1,0 +1,111 @@
+"""``run_scene``: the DEM pushover of one scene, as the ``dem`` part of a result
+file (CONTRACT.md section 3).
+
+The ``dem`` dict:
+
+* ``status``: ``collapsed`` | ``stable`` (no collapse up to ``alpha_max``, or
+  nothing can move) | ``failed`` (with ``reason``: YADE missing, crashed,
+  timed out, NaN, inconsistent runs).
+* ``alpha``: the load factor extrapolated to rigid contacts (null unless
+  collapsed); ``alpha_uncertainty``: worst-case effect of the bisection
+  brackets on it.
+* ``runs``: per contact stiffness (softest first) ``eps``, ``kn`` (N/m^3),
+  ``status``, raw ``alpha`` (bracket midpoint), ``alpha_lo``, ``alpha_hi``,
+  ``steps``, ``dt`` (s); ``extrapolation``: the Richardson fit
+  (:mod:`dem_validation.extrapolate`).
+* ``displacement``: per free block id, its motion over the collapse at the
+  stiffest contacts (from the last equilibrium to where the collapse was
+  detected), laid out like the LP mechanism: ``[ux, uy, rz]`` in 2D,
+  ``[ux, uy, uz, rx, ry, rz]`` in 3D (m, rad; global axes, rotations
+  counter-clockwise / right-handed positive).
+* ``history``: every load step (``eps``, ``phase``, ``alpha``, ``outcome``,
+  ``why``, ``steps``, ``residual``, ``motion`` m, ``control`` m: the live-load
+  work-conjugate displacement from the settled state) - the load-displacement
+  history.
+* ``time_s`` (wall clock, s), ``steps``, ``params`` (every knob used).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from . import params as P
+from .extrapolate import richardson
+from .job import build_job
+from .runner import failed, run_job
+
+
+def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None, yade: str | None = None,
+              keep_dir: bool = False, **knobs) -> dict:
+    """DEM pushover of a scene (a :class:`limit.scene.Scene`, a scene dict or a path).
+
+    ``knobs``: see :data:`dem_validation.params.KNOBS` (ValueError for an unknown or
+    bad one). ``timeout_s``: wall-clock limit of the YADE run (None: none).
+    ``progress(dict)``: called with progress records (eps, alpha, step, residual).
+    ``yade``: the YADE executable (default $DEM_YADE or ``yade`` on PATH).
+    Raises :class:`limit.errors.SceneError` for a rejected scene; every DEM fault
+    is returned as ``{"status": "failed", "reason": ...}``.
+    """
+    from limit.scene import Scene, load_scene
+
+    p = P.check(knobs)
+    scene = scene_or_path if isinstance(scene_or_path, Scene) else load_scene(scene_or_path)
+    return run_loaded(scene, p, timeout_s=timeout_s, progress=progress, yade=yade, keep_dir=keep_dir)
+
+
+def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep_dir=False, interfaces=None) -> dict:
+    """run_scene for a loaded scene and checked knobs ``p``."""
+    from limit.interfaces import find_interfaces
+    from limit.loads import dead_and_live
+
+    t0 = time.monotonic()
+    used = {k: (list(v) if isinstance(v, (list, tuple)) else v) for k, v in p.items()}
+    if not len(scene.free):
+        return {"status": "stable", "alpha": None, "note": "no free block: nothing can move",
+                "time_s": 0.0, "params": used}
+    I = find_interfaces(scene) if interfaces is None else interfaces
+    f0, fL = dead_and_live(scene)
+    job = build_job(scene, I, f0, fL, p)
+    raw = run_job(job, yade=yade, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
+    out = assemble(raw, p)
+    out["time_s"] = time.monotonic() - t0
+    out["params"] = used
+    return out
+
+
+def assemble(raw: dict, p: dict) -> dict:
+    """The ``dem`` dict from the YADE side's result (``{"status": "done"|"failed", "runs"}``)."""
+    if raw.get("status") != "done":
+        return failed(raw.get("reason", "DEM run failed"), **_keep(raw, "steps_total"))
+    runs = raw.get("runs") or []
+    history = [dict(h, eps=r["eps"]) for r in runs for h in r.get("history", [])]
+    summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt")}
+               for r in runs]
+    base = {"runs": summary, "history": history, "steps": sum(r.get("steps", 0) for r in runs)}
+    if not runs:
+        return failed("the YADE side returned no run", **base)
+    if any(r.get("dead_load_collapse") for r in runs):
+        return {"status": "collapsed", "alpha": None, "dead_load_collapse": True,
+                "note": "collapses under the dead load alone (alpha <= 0)",
+                "displacement": runs[-1].get("displacement"), **base}
+    statuses = {r["status"] for r in runs}
+    if statuses == {"stable"}:
+        return {"status": "stable", "alpha": None,
+                "note": f"no collapse up to alpha_max = {p['alpha_max']:g}", **base}
+    if statuses != {"collapsed"}:
+        return failed("the contact stiffnesses disagree: " + ", ".join(
+            f"eps={r['eps']:g} {r['status']}" for r in runs), **base)
+    eps = [r["eps"] for r in runs]
+    alpha = [r["alpha"] for r in runs]
+    half = [0.5 * (r["alpha_hi"] - r["alpha_lo"]) for r in runs]
+    fit = richardson(eps, alpha, half, p["extrapolation_exponent"])
+    if not np.isfinite(fit["alpha_rigid"]):
+        return failed("non-finite extrapolated alpha", **base)
+    return {"status": "collapsed", "alpha": fit["alpha_rigid"], "alpha_uncertainty": fit["uncertainty"],
+            "extrapolation": dict(fit, method="richardson"), "displacement": runs[-1].get("displacement"),
+            **base}
+
+
+def _keep(d, *keys):
+    return {k: d[k] for k in keys if k in d}

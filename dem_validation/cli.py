@@ -1,0 +1,111 @@
+"""Command line: ``python -m dem_validation run SCENE.json [--json OUT.json] [knobs]``.
+
+Prints a short summary; ``--json`` writes ``{"scene", "n_blocks",
+"n_free_blocks", "n_interfaces", "dem": {...}}`` (CONTRACT.md section 3).
+Exit status: 0 when the DEM ran (collapsed or stable), 2 for a rejected
+scene or option (one line on stderr), 1 for a failed DEM run (the result file
+is still written, with ``"status": "failed"`` and the reason) or any other
+failure.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from . import params as P
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m dem_validation", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="YADE quasi-static pushover of a scene")
+    r.add_argument("scene")
+    r.add_argument("--json", metavar="OUT.json", help="write the result file")
+    r.add_argument("--eps", metavar="E1,E2", help="settlement strains, e.g. 1e-4,1e-5 (default %s)"
+                   % ",".join(f"{e:g}" for e in P.DEFAULTS["eps"]))
+    r.add_argument("--timeout", type=float, default=1800.0, metavar="S", help="wall-clock limit in s (default 1800)")
+    r.add_argument("--yade", metavar="PATH", help="YADE executable (default $DEM_YADE or yade on PATH)")
+    r.add_argument("--set", action="append", default=[], metavar="KNOB=VALUE",
+                   help="any other knob (repeatable): " + ", ".join(k for k in P.KNOBS if k != "eps"))
+    r.add_argument("--quiet", action="store_true", help="no progress lines")
+    return p
+
+
+def _knobs(args) -> dict:
+    knobs = {}
+    if args.eps:
+        knobs["eps"] = [float(x) for x in args.eps.split(",") if x.strip()]
+    for item in args.set:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise ValueError(f"--set {item!r}: expected KNOB=VALUE")
+        knobs[key.strip()] = float(value)
+    return knobs
+
+
+def _progress(info):
+    if "step" in info:
+        print(f"dem: eps={info.get('eps', 0):.0e} alpha={info['alpha']:.5g} step={info['step']} "
+              f"residual={info['residual']:.2e} motion={info.get('motion', 0):.2e} m", file=sys.stderr, flush=True)
+    elif info.get("phase") == "stiffness":
+        print(f"dem: contacts eps={info['eps']:.0e}, dt={info['dt']:.3g} s", file=sys.stderr, flush=True)
+
+
+def summary(result: dict) -> str:
+    dem = result["dem"]
+    lines = [f"{result['scene']}: {result['n_blocks']} blocks ({result['n_free_blocks']} free), "
+             f"{result['n_interfaces']} interfaces"]
+    if dem["status"] == "collapsed" and dem.get("alpha") is not None:
+        raw = ", ".join(f"{r['alpha']:.5g} (eps {r['eps']:.0e})" for r in dem["runs"])
+        lines.append(f"DEM collapsed: alpha = {dem['alpha']:.5g} +- {dem['alpha_uncertainty']:.2g} "
+                     f"(rigid-contact extrapolation of {raw})")
+    elif dem["status"] == "failed":
+        lines.append(f"DEM failed: {dem.get('reason')}")
+    else:
+        lines.append(f"DEM {dem['status']}: {dem.get('note', '')}".rstrip())
+    lines.append(f"time {dem.get('time_s', 0):.1f} s, {dem.get('steps', 0)} steps")
+    return "\n".join(lines)
+
+
+def cmd_run(args) -> int:
+    from limit import jsonio
+    from limit.interfaces import find_interfaces
+    from limit.scene import load_scene
+
+    from .api import run_loaded
+
+    try:
+        p = P.check(_knobs(args))
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    scene = load_scene(args.scene)
+    I = find_interfaces(scene)
+    dem = run_loaded(scene, p, timeout_s=args.timeout, progress=None if args.quiet else _progress,
+                     yade=args.yade, interfaces=I)
+    result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
+              "n_interfaces": len(I), "dem": dem}
+    print(summary(result))
+    if args.json:
+        jsonio.write_json(args.json, result)
+    return 1 if dem["status"] == "failed" else 0
+
+
+def main(argv=None) -> int:
+    from limit.errors import SceneError
+
+    args = _parser().parse_args(argv)
+    try:
+        return cmd_run(args)
+    except SceneError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # an internal failure: one line, traceback on request
+        if os.environ.get("DEM_DEBUG"):
+            raise
+        print(f"failed: {type(exc).__name__}: {exc} (set DEM_DEBUG=1 for a traceback)", file=sys.stderr)
+        return 1

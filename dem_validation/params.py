@@ -1,0 +1,90 @@
+"""The DEM pushover's knobs: defaults, units and checks.
+
+Lengths are relative to L, the mean size (2 x largest centroid-vertex
+distance) of the free blocks, or to H, the size of the free part of the
+scene (bounding box diagonal of the free blocks); times to T = sqrt(H / |g|),
+the time scale on which blocks fall or rock.
+"""
+from __future__ import annotations
+
+import math
+
+#: name -> (default, description). The defaults come from bench/dem_bench.py.
+KNOBS = {
+    "eps": ((1e-4, 1e-5), "settlement strains eps = rho g / kn of the contact stiffnesses, softest first"),
+    "extrapolation_exponent": (1 / 3, "alpha(eps) = alpha_rigid - c eps^p: the exponent p"),
+    "ks_ratio": (0.5, "shear stiffness / normal stiffness of a contact (per unit area)"),
+    "damping": (0.8, "Cundall local damping of the integrator (0..1)"),
+    "cfl": (1.0, "time step as a fraction of the estimated critical one"),
+    "step0": (0.05, "first load step (absolute alpha)"),
+    "growth": (1.5, "load step growth after each equilibrium"),
+    "rebracket": (1.3, "first load step at stiffer contacts: to this x the softer contacts' alpha_hi"),
+    "restep": (0.1, "further load steps at stiffer contacts, as a fraction of the softer alpha"),
+    "restart_frac": (0.9, "stiffer contacts restart from an equilibrium at or below this x the softer alpha"),
+    "alpha_max": (10.0, "give up (status stable) when alpha reaches this without collapse"),
+    "alpha_rtol": (0.005, "bisection stops when (hi - lo) <= alpha_rtol x hi"),
+    "eq_tol": (1e-3, "equilibrium: out-of-balance force and moment / the block's load"),
+    "motion_tol": (0.02, "equilibrium: block motion per check window / (eps L)"),
+    "creep_disp": (0.05, "run-away needs a motion over creep_disp x eps^(1/3) x L"),
+    "surge_drop": (0.3, "the first surge of motion is over when the motion per window drops below this x its peak"),
+    "rerun_frac": (0.25, "run-away: motion per window picked up again to this x the first surge's peak"),
+    "collapse_disp": (0.5, "collapse when a block moved collapse_disp x eps^(1/3) x H from the last equilibrium"),
+    "checks_per_T": (40, "equilibrium checks per time scale T"),
+    "runaway_T": (0.3, "run-away: motion per check window not shrinking for this x T"),
+    "rerun_floor": (0.5, "run-away: motion per check window above this x eps L"),
+    "observe_T": (1.0, "equilibrium is not declared before this x T after a load step"),
+    "trial_T": (10.0, "step budget of one load step, in units of T"),
+    "ramp_T": (0.0, "a load step is applied linearly over this x T"),
+}
+DEFAULTS = {k: v[0] for k, v in KNOBS.items()}
+
+# Run-level options of run_scene (not sent to YADE).
+RUN_OPTIONS = ("timeout_s", "progress", "yade", "keep_dir")
+
+
+def check(knobs: dict) -> dict:
+    """Defaults updated with ``knobs``; raises ValueError naming a bad knob."""
+    unknown = sorted(set(knobs) - set(KNOBS))
+    if unknown:
+        raise ValueError(f"unknown DEM knob(s): {', '.join(unknown)} (known: {', '.join(KNOBS)})")
+    p = dict(DEFAULTS)
+    p.update(knobs)
+    eps = p["eps"]
+    if isinstance(eps, (int, float)):
+        eps = (eps,)
+    try:
+        eps = tuple(float(e) for e in eps)
+    except (TypeError, ValueError):
+        raise ValueError(f"eps: expected numbers, got {p['eps']!r}") from None
+    if not eps or any(not (0 < e < 0.1) or not math.isfinite(e) for e in eps):
+        raise ValueError(f"eps: each settlement strain must be in (0, 0.1), got {list(eps)}")
+    if len(set(eps)) != len(eps):
+        raise ValueError(f"eps: repeated values {list(eps)}")
+    p["eps"] = sorted(eps, reverse=True)
+    for k, v in p.items():
+        if k == "eps":
+            continue
+        try:
+            p[k] = float(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"{k}: expected a number, got {v!r}") from None
+        if not math.isfinite(p[k]):
+            raise ValueError(f"{k}: must be finite, got {v!r}")
+    positive = ("ks_ratio", "cfl", "step0", "alpha_max", "alpha_rtol", "eq_tol", "motion_tol", "creep_disp",
+                "collapse_disp", "checks_per_T", "runaway_T", "trial_T", "extrapolation_exponent", "rebracket",
+                "rerun_floor")
+    for k in positive:
+        if not p[k] > 0:
+            raise ValueError(f"{k}: must be > 0, got {p[k]!r}")
+    for k, lo, hi in (("damping", 0.0, 1.0), ("restart_frac", 0.0, 1.0), ("restep", 0.0, 1.0),
+                      ("surge_drop", 0.0, 1.0), ("rerun_frac", 0.0, 1.0)):
+        if not lo <= p[k] < hi:
+            raise ValueError(f"{k}: must be in [{lo}, {hi}), got {p[k]!r}")
+    if p["growth"] < 1:
+        raise ValueError(f"growth: must be >= 1, got {p['growth']!r}")
+    for k in ("ramp_T", "observe_T"):
+        if p[k] < 0:
+            raise ValueError(f"{k}: must be >= 0, got {p[k]!r}")
+    if p["rebracket"] < 1:
+        raise ValueError(f"rebracket: must be >= 1, got {p['rebracket']!r}")
+    return p

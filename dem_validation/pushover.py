@@ -1,0 +1,230 @@
+"""Quasi-static pushover: settle under the dead load, then bracket the collapse
+load factor alpha by load steps and bisection, at one or more contact
+stiffnesses.
+
+Pure Python (no YADE import): it drives any ``model`` with the methods of
+:class:`dem_validation.yade_model.Model` (``set_alpha``, ``set_stiffness``,
+``step``, ``residual``, ``max_motion``, ``snapshot``, ``restore``,
+``displacements``, ``control_displacement``; attributes ``alpha``, ``eps``,
+``dt``, ``kn``, ``length``, ``time_scale``), so the search itself is tested
+without YADE.
+
+A *trial* raises alpha from the last equilibrium to a target (linearly over
+``ramp_T`` x T) and then steps, checking ``checks_per_T`` times per T:
+
+* equilibrium: after at least ``observe_T`` x T (time for a slow run-away to
+  show), every free block's out-of-balance force and moment are below
+  ``eq_tol`` of its load, and the largest block motion over the last check
+  window is below ``motion_tol`` x eps x L (the elastic settlement);
+* collapse: a block moved more than ``collapse_disp`` x eps^(1/3) x H since
+  the last equilibrium (several times the motion up to the peak load of a
+  rocking block at finite stiffness); or, once the first surge of motion that follows the load step
+  has died down (motion per window below ``surge_drop`` x its peak), the
+  motion picked up again: it has not shrunk for ``runaway_T`` x T and
+  exceeds both ``rerun_frac`` x the surge peak and ``rerun_floor`` x eps x L
+  (above the slow creep seen near equilibrium), and the blocks moved more
+  than ``creep_disp`` x eps^(1/3) x L - a slow run-away past the peak;
+* after ``trial_T`` x T without either: collapse when the motion per window
+  is still growing (after the surge, or with no surge at all: a slow slide),
+  equilibrium otherwise (the history says so).
+
+On collapse the model goes back to the last equilibrium and the search
+bisects, until hi - lo <= ``alpha_rtol`` x hi. L (m) is the mean free block
+size, H (m) the size of the free part of the scene, T = sqrt(H / |g|) (s);
+motions are translation plus rotation x block radius (m).
+"""
+from __future__ import annotations
+
+import math
+import time
+
+STABLE, COLLAPSE = "stable", "collapse"
+
+
+class Clock:
+    """Progress reporting at most every ``period`` seconds through ``emit(dict)``."""
+
+    def __init__(self, emit, period=2.0):
+        self.emit, self.period, self.last = emit, period, time.monotonic()
+
+    def tick(self, **info):
+        now = time.monotonic()
+        if self.emit is not None and now - self.last >= self.period:
+            self.last = now
+            self.emit(info)
+
+
+def trial(model, a_from, a_to, p, clock=None, steps_before=0):
+    """One load step from the equilibrium at ``a_from`` to ``a_to``.
+
+    Returns a dict: outcome (stable|collapse), why, steps, residual, motion
+    (m, largest block motion since the start), ref (snapshot at the start).
+    """
+    length, dt, T = model.length, model.dt, model.time_scale
+    collapse_disp = p["collapse_disp"] * model.eps ** (1.0 / 3.0) * model.size
+    creep_disp = p["creep_disp"] * model.eps ** (1.0 / 3.0) * length
+    motion_tol = p["motion_tol"] * model.eps * length
+    chk = max(1, int(round(T / dt / p["checks_per_T"])))
+    ramp = int(round(p["ramp_T"] * T / dt))
+    budget = max(chk, int(round(p["trial_T"] * T / dt)))
+    observe = int(round(p["observe_T"] * T / dt))
+    k_run = max(3, int(math.ceil(p["runaway_T"] * T / (chk * dt))))
+    rerun_floor = p["rerun_floor"] * model.eps * length
+    ref = model.snapshot()
+    prev = ref
+    steps, res, d = 0, math.inf, 0.0
+    w_last, w_peak = None, 0.0
+    surge_over = False  # the first surge of motion after the load step has died down
+    rising = 0          # check windows in a row whose motion did not shrink (by more than 1%)
+    outcome = why = None
+    while steps < budget:
+        if steps < ramp:
+            model.set_alpha(a_from + (a_to - a_from) * min(1.0, (steps + chk) / ramp))
+        elif model.alpha != a_to:
+            model.set_alpha(a_to)
+        model.step(chk)
+        steps += chk
+        d = model.max_motion(ref)
+        w = model.max_motion(prev)
+        prev = model.snapshot()
+        res = model.residual()
+        if not surge_over:
+            w_peak = max(w_peak, w)
+            surge_over = w < p["surge_drop"] * w_peak
+        rising = rising + 1 if (w_last is not None and w >= 0.99 * w_last) else 0
+        w_last = w
+        if clock is not None:
+            clock.tick(eps=model.eps, alpha=model.alpha, step=steps_before + steps, residual=res, motion=d)
+        if d > collapse_disp:
+            outcome, why = COLLAPSE, f"moved more than collapse_disp ({collapse_disp:.3g} m)"
+            break
+        if steps < ramp:
+            continue
+        if steps >= observe and res < p["eq_tol"] and w < motion_tol:
+            outcome, why = STABLE, "equilibrium"
+            break
+        if d > creep_disp and surge_over and rising >= k_run and w > max(p["rerun_frac"] * w_peak, rerun_floor):
+            outcome, why = COLLAPSE, "motion picked up again after the first surge"
+            break
+    if outcome is None:
+        growing = rising >= 2 and (not surge_over or w > max(0.5 * p["rerun_frac"] * w_peak, rerun_floor))
+        outcome = COLLAPSE if growing else STABLE
+        why = "step budget spent, motion " + ("growing" if growing else "not growing")
+    return {"outcome": outcome, "why": why, "steps": steps, "residual": res, "motion": d, "ref": ref}
+
+
+class Search:
+    """Load stepping and bisection at the model's current stiffness.
+
+    ``history`` collects one record per trial: phase, alpha, outcome, why,
+    steps, residual, motion (m), control (the live-load work-conjugate
+    displacement from the settled state, m).
+    """
+
+    def __init__(self, model, p, clock=None, base=None):
+        self.model, self.p, self.clock = model, p, clock
+        self.history = []
+        self.steps = 0
+        self.base = base
+        self.equilibria = []  # (alpha, snapshot) of every equilibrium reached by a load step
+
+    def run(self, a_from, a_to, phase):
+        t = trial(self.model, a_from, a_to, self.p, self.clock, self.steps)
+        self.steps += t["steps"]
+        rec = {"phase": phase, "alpha": a_to, "outcome": t["outcome"], "why": t["why"], "steps": t["steps"],
+               "residual": t["residual"], "motion": t["motion"]}
+        if self.base is not None:
+            rec["control"] = self.model.control_displacement(self.base)
+        self.history.append(rec)
+        return t
+
+    def bracket(self, lo, step, first=None):
+        """Raise alpha from the equilibrium at ``lo`` (first to ``first`` when given, then
+        by ``step``, growing by ``growth`` after each equilibrium) until a collapse, then
+        bisect. Returns (lo, hi, collapse displacements of the last collapsing trial);
+        hi is None when alpha_max was reached without collapse."""
+        p, model = self.p, self.model
+        collapse = hi = None
+        while True:
+            if hi is not None:
+                if hi - lo <= p["alpha_rtol"] * hi:
+                    break
+                a, phase = 0.5 * (lo + hi), "bisect"
+            elif first is not None and first > lo:
+                a, phase, first = min(first, p["alpha_max"]), "load", None
+            else:
+                if lo >= p["alpha_max"]:
+                    break
+                a, phase = min(lo + step, p["alpha_max"]), "load"
+            t = self.run(lo, a, phase)
+            if t["outcome"] == STABLE:
+                lo = a
+                self.equilibria.append((a, model.snapshot()))
+                if hi is None and phase == "load" and a > t["ref"]["alpha"] + 0.999 * step:
+                    step *= p["growth"]
+            else:
+                collapse = model.displacements(t["ref"])
+                model.restore(t["ref"])
+                hi = a
+        return lo, hi, collapse
+
+
+def pushover(model, eps_list, p, emit=None):
+    """Bracket alpha at each settlement strain of ``eps_list`` (softest first).
+
+    The first stiffness starts from the unloaded scene: settle under the dead load,
+    then load steps of ``step0`` growing by ``growth``. A further stiffness starts
+    from the previous one's highest equilibrium at or below ``restart_frac`` x its
+    alpha_lo (a state well short of the peak, where the softer contacts' larger
+    rotations do not matter), re-stiffened and re-equilibrated; its first load step
+    goes to ``rebracket`` x the previous alpha_hi (stiffer contacts carry more),
+    further ones by ``restep`` x the previous alpha_lo. When
+    there is no such state or it does not hold, that stiffness starts again from
+    the unloaded scene. Returns one dict per stiffness: eps, status
+    (collapsed|stable), alpha (bracket midpoint, None unless collapsed), alpha_lo,
+    alpha_hi, dead_load_collapse, history, steps, collapse (per free block
+    (u, rotation) over the last collapsing trial, from the last equilibrium), dt, kn.
+    """
+    clock = Clock(emit)
+    initial = model.snapshot()
+    out = []
+    prev = None  # (result, search) of the previous stiffness
+    for eps in eps_list:
+        model.set_stiffness(eps)
+        search = Search(model, p, clock)
+        clock.emit and clock.emit({"phase": "stiffness", "eps": eps, "dt": model.dt})
+        start = None
+        if prev is not None and prev[0]["status"] == "collapsed":
+            lo_prev = prev[0]["alpha_lo"]
+            below = [(a, s) for a, s in prev[1].equilibria if a <= p["restart_frac"] * lo_prev]
+            if below:
+                a0, snap = max(below, key=lambda e: e[0])
+                model.restore(snap)
+                search.base = prev[1].base
+                t = search.run(a0, a0, "re-stiffen")
+                if t["outcome"] == STABLE:
+                    search.equilibria.append((a0, model.snapshot()))
+                    start = (a0, max(p["restep"] * lo_prev, 1e-9), p["rebracket"] * prev[0]["alpha_hi"])
+        if start is None:
+            model.restore(initial, alpha=0.0)
+            t = search.run(0.0, 0.0, "settle")
+            if t["outcome"] != STABLE:
+                out.append(_result(eps, model, search, "collapsed", None, 0.0, True, model.displacements(t["ref"])))
+                prev = None
+                continue
+            search.base = model.snapshot()
+            search.history[-1]["control"] = 0.0
+            search.equilibria.append((0.0, search.base))
+            start = (0.0, p["step0"], None)
+        lo, hi, collapse = search.bracket(*start)
+        res = _result(eps, model, search, "stable" if hi is None else "collapsed", lo, hi, False, collapse)
+        out.append(res)
+        prev = (res, search)
+    return out
+
+
+def _result(eps, model, search, status, lo, hi, dead, collapse):
+    alpha = 0.5 * (lo + hi) if (status == "collapsed" and lo is not None and hi is not None) else None
+    return {"eps": eps, "status": status, "alpha": alpha, "alpha_lo": lo, "alpha_hi": hi,
+            "dead_load_collapse": dead, "history": search.history, "steps": search.steps,
+            "collapse": collapse, "dt": model.dt, "kn": model.kn}

@@ -1,0 +1,166 @@
+"""Host side: run one YADE job as a subprocess and read its result back.
+
+Each run gets its own temporary directory (job file, result file, YADE's
+stderr), its own process group, ``-j1`` (one OpenMP thread) and a wall-clock
+limit, so several runs at once do not collide. Every fault ends as a result
+dict with ``"status": "failed"`` and a one-line ``reason``: YADE missing,
+a non-zero exit or a signal, a time-out (the whole process group is killed),
+a missing, unreadable or non-finite result file.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import queue
+import shutil
+import signal
+import subprocess
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+SCRIPT = Path(__file__).resolve().parent / "yade_main.py"
+PROGRESS_TAG = "DEMPROGRESS "
+
+
+def find_yade(yade: str | None) -> str | None:
+    """Path of the YADE executable: ``yade`` (a name looked up on PATH or a path),
+    else $DEM_YADE, else ``yade`` on PATH; None when there is none."""
+    name = yade or os.environ.get("DEM_YADE") or "yade"
+    if os.sep in name:
+        return name if os.path.isfile(name) and os.access(name, os.X_OK) else None
+    return shutil.which(name)
+
+
+def failed(reason: str, **extra) -> dict:
+    return {"status": "failed", "reason": " ".join(str(reason).split()), **extra}
+
+
+def _tail(path: Path, n=400) -> str:
+    """Last meaningful line of a log file (at most n characters)."""
+    try:
+        lines = [ln.strip() for ln in path.read_text(errors="replace").splitlines() if ln.strip()]
+    except OSError:
+        return ""
+    return lines[-1][-n:] if lines else ""
+
+
+def _finite(obj) -> bool:
+    if isinstance(obj, float):
+        return math.isfinite(obj)
+    if isinstance(obj, dict):
+        return all(_finite(v) for v in obj.values())
+    if isinstance(obj, list):
+        return all(_finite(v) for v in obj)
+    return True
+
+
+def _reader(stream, q):
+    for line in iter(stream.readline, ""):
+        q.put(line)
+    q.put(None)
+
+
+def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = None, progress=None,
+            keep_dir: bool = False, script: Path | None = None) -> dict:
+    """Run ``job`` (see dem_validation.job) in YADE; returns the YADE side's result dict
+    or a failed one. ``progress(dict)`` receives the progress records
+    (alpha, step, residual, ...). ``timeout_s``: wall-clock limit (None: no limit)."""
+    exe = find_yade(yade)
+    if exe is None:
+        return failed(f"YADE executable not found ({yade or os.environ.get('DEM_YADE') or 'yade'!r}"
+                      " is not on PATH or not executable)")
+    if timeout_s is not None and timeout_s <= 0:
+        return failed("time limit reached before YADE could start")
+    work = Path(tempfile.mkdtemp(prefix="dem-"))
+    t0 = time.monotonic()
+    try:
+        job = dict(job, result="result.json")
+        (work / "job.json").write_text(json.dumps(job))
+        env = dict(os.environ, OMP_NUM_THREADS="1", DEM_JOB=str(work / "job.json"))
+        env.pop("DISPLAY", None)
+        cmd = [exe, "-n", "-x", "-j1", "-f1", str(script or SCRIPT), str(work / "job.json")]
+        with open(work / "yade.err", "w") as err:
+            try:
+                proc = subprocess.Popen(cmd, cwd=work, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                        stderr=err, text=True, env=env, start_new_session=True)
+            except OSError as exc:
+                return failed(f"cannot start YADE ({exe}): {exc.strerror or exc}")
+            q: queue.Queue = queue.Queue()
+            th = threading.Thread(target=_reader, args=(proc.stdout, q), daemon=True)
+            th.start()
+            timed_out = _pump(proc, q, progress, t0, timeout_s)
+            th.join(timeout=5)
+        elapsed = time.monotonic() - t0
+        if timed_out:
+            return failed(f"timed out after {elapsed:.1f} s (time limit {timeout_s:g} s); YADE was killed",
+                          time_s=elapsed)
+        rc = proc.returncode
+        result_path = work / "result.json"
+        if rc != 0 or not result_path.exists():
+            if rc is not None and rc < 0:
+                try:
+                    sig = signal.Signals(-rc).name
+                except ValueError:
+                    sig = str(-rc)
+                why = f"YADE crashed (signal {sig})"
+            elif rc != 0:
+                why = f"YADE exited with status {rc}"
+            else:
+                why = "YADE exited without writing a result"
+            last = _tail(work / "yade.err")
+            return failed(why + (f": {last}" if last else ""), time_s=elapsed)
+        try:
+            res = json.loads(result_path.read_text())
+        except (OSError, ValueError) as exc:
+            return failed(f"unreadable DEM result file: {exc}", time_s=elapsed)
+        if not isinstance(res, dict) or res.get("status") not in ("done", "failed"):
+            return failed("DEM result file without a valid status", time_s=elapsed)
+        if not _finite(res):
+            return failed("non-finite number in the DEM result", time_s=elapsed)
+        res["wall_s"] = elapsed
+        return res
+    finally:
+        if keep_dir:
+            print(f"DEM work directory kept: {work}")
+        else:
+            shutil.rmtree(work, ignore_errors=True)
+
+
+def _pump(proc, q, progress, t0, timeout_s) -> bool:
+    """Forward progress lines until YADE exits; True when it was killed for time."""
+    deadline = None if timeout_s is None else t0 + timeout_s
+    while True:
+        left = None if deadline is None else deadline - time.monotonic()
+        if left is not None and left <= 0:
+            _kill(proc)
+            return True
+        try:
+            line = q.get(timeout=0.5 if left is None else min(0.5, left))
+        except queue.Empty:
+            continue
+        if line is None:  # YADE closed its stdout: wait for it to exit
+            try:
+                proc.wait(timeout=None if deadline is None else max(0.0, deadline - time.monotonic()))
+                return False
+            except subprocess.TimeoutExpired:
+                _kill(proc)
+                return True
+        if line.startswith(PROGRESS_TAG) and progress is not None:
+            try:
+                progress(json.loads(line[len(PROGRESS_TAG):]))
+            except ValueError:
+                pass
+
+
+def _kill(proc):
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        pass
