@@ -1,0 +1,172 @@
+"""DEM pushover logic without YADE: knobs, Richardson extrapolation, the
+bracketing search (with a stand-in model whose collapse load is known) and
+the assembly of the ``dem`` result."""
+import math
+
+import pytest
+
+from dem_validation import params as P
+from dem_validation import pushover
+from dem_validation.api import assemble
+from dem_validation.extrapolate import richardson
+
+
+# ----------------------------------------------------------------------------- knobs
+
+def test_defaults_check_and_sort_eps():
+    p = P.check({"eps": [1e-5, 1e-4]})
+    assert p["eps"] == [1e-4, 1e-5]
+    assert p["damping"] == P.DEFAULTS["damping"]
+
+
+@pytest.mark.parametrize("knobs, word", [
+    ({"nonsense": 1}, "unknown"),
+    ({"eps": []}, "eps"),
+    ({"eps": [0.5]}, "eps"),
+    ({"eps": [1e-5, 1e-5]}, "repeated"),
+    ({"damping": 1.5}, "damping"),
+    ({"alpha_rtol": 0}, "alpha_rtol"),
+    ({"cfl": float("nan")}, "cfl"),
+    ({"step0": "big"}, "step0"),
+])
+def test_bad_knobs_are_named(knobs, word):
+    with pytest.raises(ValueError, match=word):
+        P.check(knobs)
+
+
+# ----------------------------------------------------------------------------- extrapolation
+
+def test_richardson_recovers_the_rigid_value_of_a_power_law():
+    law = lambda e: 0.3 - 1.2 * e ** (1 / 3)  # noqa: E731
+    eps = [1e-4, 1e-5]
+    fit = richardson(eps, [law(e) for e in eps])
+    assert fit["alpha_rigid"] == pytest.approx(0.3, abs=1e-12)
+    assert fit["coefficient"] == pytest.approx(1.2, rel=1e-9)
+    assert fit["correction"] == pytest.approx(1.2 * 1e-5 ** (1 / 3), rel=1e-9)
+
+
+def test_richardson_least_squares_and_uncertainty():
+    eps = [1e-4, 1e-5, 1e-6]
+    fit = richardson(eps, [0.5, 0.5, 0.5], [0.01, 0.01, 0.01])
+    assert fit["alpha_rigid"] == pytest.approx(0.5)
+    assert fit["coefficient"] == pytest.approx(0.0, abs=1e-12)
+    # two runs: alpha_r = a2 + (a2 - a1)/(r - 1), r = 10^(1/3): bracket errors are amplified
+    r = 10 ** (1 / 3)
+    two = richardson([1e-4, 1e-5], [0.24, 0.27], [0.001, 0.002])
+    assert two["alpha_rigid"] == pytest.approx(0.27 + 0.03 / (r - 1))
+    assert two["uncertainty"] == pytest.approx(0.002 * r / (r - 1) + 0.001 / (r - 1))
+
+
+def test_richardson_single_run_is_the_raw_value():
+    fit = richardson([1e-5], [0.27], [0.001])
+    assert fit["alpha_rigid"] == 0.27 and fit["uncertainty"] == 0.001
+
+
+# ----------------------------------------------------------------------------- the search
+
+class FakeModel:
+    """Stand-in for the YADE model: one 'block' whose state is the load factor it
+    last held; collapse above alpha_c(eps) = 0.3 - 1.2 eps^(1/3)."""
+
+    def __init__(self, dead_load_collapse=False):
+        self.alpha, self.eps, self.dt, self.kn = 0.0, None, 1.0, None
+        self.length = self.size = self.time_scale = 1.0
+        self.held = 0.0
+        self.dead_load_collapse = dead_load_collapse
+
+    def critical(self):
+        return 0.3 - 1.2 * self.eps ** (1 / 3)
+
+    def set_stiffness(self, eps):
+        self.eps, self.kn = eps, 1.0 / eps
+
+    def set_alpha(self, a):
+        self.alpha = a
+
+    def snapshot(self):
+        return {"alpha": self.alpha, "held": self.held}
+
+    def restore(self, snap, alpha=None):
+        self.held = snap["held"]
+        self.alpha = snap["alpha"] if alpha is None else alpha
+
+    def displacements(self, ref):
+        return {1: ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0))}
+
+    def control_displacement(self, ref):
+        return self.held
+
+
+def fake_trial(model, a_from, a_to, p, clock=None, steps_before=0):
+    ref = model.snapshot()
+    model.set_alpha(a_to)
+    collapses = a_to > model.critical() or (model.dead_load_collapse and a_to == 0.0)
+    if not collapses:
+        model.held = a_to
+    return {"outcome": pushover.COLLAPSE if collapses else pushover.STABLE, "why": "fake", "steps": 10,
+            "residual": 0.0, "motion": 0.0, "ref": ref}
+
+
+@pytest.fixture
+def fake(monkeypatch):
+    monkeypatch.setattr(pushover, "trial", fake_trial)
+    return FakeModel
+
+
+@pytest.mark.parametrize("rtol", [0.02, 0.005, 0.001])
+def test_bisection_brackets_the_collapse_load(fake, rtol):
+    p = P.check({"eps": [1e-4, 1e-5], "alpha_rtol": rtol})
+    runs = pushover.pushover(fake(), p["eps"], p)
+    for r in runs:
+        ac = 0.3 - 1.2 * r["eps"] ** (1 / 3)
+        assert r["status"] == "collapsed"
+        assert r["alpha_lo"] <= ac < r["alpha_hi"]
+        assert r["alpha_hi"] - r["alpha_lo"] <= rtol * r["alpha_hi"]
+        assert abs(r["alpha"] - ac) <= 0.5 * rtol * r["alpha_hi"]
+    # the stiffer run restarted from an equilibrium of the softer one, below its alpha
+    second = runs[1]["history"]
+    assert second[0]["phase"] == "re-stiffen" and second[0]["alpha"] <= 0.9 * runs[0]["alpha_lo"]
+    fit = richardson([r["eps"] for r in runs], [r["alpha"] for r in runs])
+    assert fit["alpha_rigid"] == pytest.approx(0.3, abs=3 * rtol * 0.3)
+
+
+def test_no_collapse_up_to_alpha_max_is_stable(fake, monkeypatch):
+    monkeypatch.setattr(FakeModel, "critical", lambda self: math.inf)
+    p = P.check({"eps": [1e-4], "alpha_max": 2.0})
+    (run,) = pushover.pushover(fake(), p["eps"], p)
+    assert run["status"] == "stable" and run["alpha"] is None and run["alpha_lo"] == 2.0
+
+
+def test_dead_load_collapse(fake):
+    p = P.check({"eps": [1e-4, 1e-5]})
+    runs = pushover.pushover(fake(dead_load_collapse=True), p["eps"], p)
+    assert all(r["dead_load_collapse"] and r["alpha"] is None for r in runs)
+
+
+# ----------------------------------------------------------------------------- the dem dict
+
+def _run(eps, status="collapsed", lo=0.2, hi=0.21, dead=False):
+    return {"eps": eps, "kn": 1.0 / eps, "status": status, "alpha": None if (hi is None or lo is None) else 0.5 * (lo + hi),
+            "alpha_lo": lo, "alpha_hi": hi, "steps": 100, "dt": 1e-4, "dead_load_collapse": dead,
+            "history": [{"phase": "load", "alpha": lo}], "displacement": {"b": [1.0, 0.0, -1.0]}}
+
+
+def test_assemble_collapsed_extrapolates():
+    p = P.check({})
+    dem = assemble({"status": "done", "runs": [_run(1e-4, lo=0.24, hi=0.242), _run(1e-5, lo=0.27, hi=0.272)]}, p)
+    assert dem["status"] == "collapsed"
+    assert dem["alpha"] == pytest.approx(richardson([1e-4, 1e-5], [0.241, 0.271])["alpha_rigid"])
+    assert dem["displacement"] == {"b": [1.0, 0.0, -1.0]}
+    assert [h["eps"] for h in dem["history"]] == [1e-4, 1e-5]
+
+
+def test_assemble_failures_and_disagreement():
+    p = P.check({})
+    failed = assemble({"status": "failed", "reason": "NaN/Inf in the DEM state"}, p)
+    assert failed["status"] == "failed" and "NaN" in failed["reason"] and "alpha" not in failed
+    mixed = assemble({"status": "done", "runs": [_run(1e-4), _run(1e-5, status="stable", hi=None)]}, p)
+    assert mixed["status"] == "failed" and "disagree" in mixed["reason"]
+    stable = assemble({"status": "done", "runs": [_run(1e-4, "stable", hi=None), _run(1e-5, "stable", hi=None)]}, p)
+    assert stable["status"] == "stable" and stable["alpha"] is None
+    dead = assemble({"status": "done", "runs": [_run(1e-4, lo=None, hi=0.0, dead=True)]}, p)
+    assert dead["status"] == "collapsed" and dead["alpha"] is None and dead["dead_load_collapse"]
