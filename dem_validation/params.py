@@ -32,6 +32,7 @@ KNOBS = {
     "checks_per_T": (40, "equilibrium checks per time scale T"),
     "runaway_T": (0.3, "run-away: motion per check window not shrinking for this x T"),
     "rerun_floor": (0.5, "run-away: motion per check window above this x eps L"),
+    "rerun_reach": (1.2, "run-away: blocks moved this x farther than before the motion picked up again"),
     "observe_T": (1.0, "equilibrium is not declared before this x T after a load step"),
     "trial_T": (10.0, "step budget of one load step, in units of T"),
     "ramp_T": (0.0, "a load step is applied linearly over this x T"),
@@ -72,7 +73,7 @@ def check(knobs: dict) -> dict:
             raise ValueError(f"{k}: must be finite, got {v!r}")
     positive = ("ks_ratio", "cfl", "step0", "alpha_max", "alpha_rtol", "eq_tol", "motion_tol", "creep_disp",
                 "collapse_disp", "checks_per_T", "runaway_T", "trial_T", "extrapolation_exponent", "rebracket",
-                "rerun_floor")
+                "rerun_floor", "rerun_reach")
     for k in positive:
         if not p[k] > 0:
             raise ValueError(f"{k}: must be > 0, got {p[k]!r}")

@@ -23,7 +23,9 @@ A *trial* raises alpha from the last equilibrium to a target (linearly over
   motion picked up again: it has not shrunk for ``runaway_T`` x T and
   exceeds both ``rerun_frac`` x the surge peak and ``rerun_floor`` x eps x L
   (above the slow creep seen near equilibrium), and the blocks moved more
-  than ``creep_disp`` x eps^(1/3) x L - a slow run-away past the peak;
+  than ``creep_disp`` x eps^(1/3) x L and more than ``rerun_reach`` x as far
+  as before this rise began (new ground, not the next swing of an
+  oscillation) - a slow run-away past the peak;
 * after ``trial_T`` x T without either: collapse when the motion per window
   is still growing (after the surge, or with no surge at all: a slow slide),
   equilibrium otherwise (the history says so).
@@ -54,11 +56,13 @@ class Clock:
             self.emit(info)
 
 
-def trial(model, a_from, a_to, p, clock=None, steps_before=0):
+def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
     """One load step from the equilibrium at ``a_from`` to ``a_to``.
 
-    Returns a dict: outcome (stable|collapse), why, steps, residual, motion
-    (m, largest block motion since the start), ref (snapshot at the start).
+    ``rerun=False`` turns the picked-up-motion rule off (after a change of
+    stiffness the contacts spring back first). Returns a dict: outcome
+    (stable|collapse), why, steps, residual, motion (m, largest block motion
+    since the start), ref (snapshot at the start).
     """
     length, dt, T = model.length, model.dt, model.time_scale
     collapse_disp = p["collapse_disp"] * model.eps ** (1.0 / 3.0) * model.size
@@ -74,6 +78,7 @@ def trial(model, a_from, a_to, p, clock=None, steps_before=0):
     prev = ref
     steps, res, d = 0, math.inf, 0.0
     w_last, w_peak = None, 0.0
+    d_max, d_run = 0.0, 0.0  # largest motion so far; largest before the current rise began
     surge_over = False  # the first surge of motion after the load step has died down
     rising = 0          # check windows in a row whose motion did not shrink (by more than 1%)
     outcome = why = None
@@ -91,7 +96,11 @@ def trial(model, a_from, a_to, p, clock=None, steps_before=0):
         if not surge_over:
             w_peak = max(w_peak, w)
             surge_over = w < p["surge_drop"] * w_peak
-        rising = rising + 1 if (w_last is not None and w >= 0.99 * w_last) else 0
+        if w_last is not None and w >= 0.99 * w_last:
+            rising += 1
+        else:
+            rising, d_run = 0, d_max
+        d_max = max(d_max, d)
         w_last = w
         if clock is not None:
             clock.tick(eps=model.eps, alpha=model.alpha, step=steps_before + steps, residual=res, motion=d)
@@ -103,7 +112,8 @@ def trial(model, a_from, a_to, p, clock=None, steps_before=0):
         if steps >= observe and res < p["eq_tol"] and w < motion_tol:
             outcome, why = STABLE, "equilibrium"
             break
-        if d > creep_disp and surge_over and rising >= k_run and w > max(p["rerun_frac"] * w_peak, rerun_floor):
+        if (rerun and surge_over and rising >= k_run and d > max(creep_disp, p["rerun_reach"] * d_run)
+                and w > max(p["rerun_frac"] * w_peak, rerun_floor)):
             outcome, why = COLLAPSE, "motion picked up again after the first surge"
             break
     if outcome is None:
@@ -128,8 +138,8 @@ class Search:
         self.base = base
         self.equilibria = []  # (alpha, snapshot) of every equilibrium reached by a load step
 
-    def run(self, a_from, a_to, phase):
-        t = trial(self.model, a_from, a_to, self.p, self.clock, self.steps)
+    def run(self, a_from, a_to, phase, rerun=True):
+        t = trial(self.model, a_from, a_to, self.p, self.clock, self.steps, rerun)
         self.steps += t["steps"]
         rec = {"phase": phase, "alpha": a_to, "outcome": t["outcome"], "why": t["why"], "steps": t["steps"],
                "residual": t["residual"], "motion": t["motion"]}
@@ -201,7 +211,7 @@ def pushover(model, eps_list, p, emit=None):
                 a0, snap = max(below, key=lambda e: e[0])
                 model.restore(snap)
                 search.base = prev[1].base
-                t = search.run(a0, a0, "re-stiffen")
+                t = search.run(a0, a0, "re-stiffen", rerun=False)
                 if t["outcome"] == STABLE:
                     search.equilibria.append((a0, model.snapshot()))
                     start = (a0, max(p["restep"] * lo_prev, 1e-9), p["rebracket"] * prev[0]["alpha_hi"])

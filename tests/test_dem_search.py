@@ -97,7 +97,7 @@ class FakeModel:
         return self.held
 
 
-def fake_trial(model, a_from, a_to, p, clock=None, steps_before=0):
+def fake_trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
     ref = model.snapshot()
     model.set_alpha(a_to)
     collapses = a_to > model.critical() or (model.dead_load_collapse and a_to == 0.0)
