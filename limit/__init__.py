@@ -5,4 +5,12 @@ Data flows one way: scene file -> :mod:`limit.scene` (validated blocks) ->
 and :mod:`limit.kinematics` (matrices) -> solvers -> results.
 """
 
+import os
+
+# One BLAS thread: the dense algebra here is small (SLSQP, 2x2 to 6x6 blocks), runs are
+# parallelised by process, and a multi-threaded OpenBLAS on a busy machine was measured
+# to slow SLSQP down 300-fold. Set before numpy is imported; an explicit setting wins.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 __version__ = "0.1.0"

@@ -117,11 +117,16 @@ def analyse(scene, method: str = "auto", options: Options | None = None, solver:
         from . import nlp
 
         out["nlp"] = nlp.step2(P, sol, method=method, **(nlp_options or {}))
+        if out["nlp"].get("status") == "optimal" and out["nlp"].get("alpha") is not None and \
+                out["nlp"]["alpha"] < -verify.TOL_GAP:
+            out["nlp"]["status"] = "infeasible"
     out["_assembled"] = P
     out["_lp_solution"] = sol
     return out
 
 
-def public(result: dict) -> dict:
-    """The result without the in-memory objects (keys starting with '_')."""
-    return {k: v for k, v in result.items() if not k.startswith("_")}
+def public(result):
+    """The result without the in-memory objects (keys starting with '_', at any depth)."""
+    if isinstance(result, dict):
+        return {k: public(v) for k, v in result.items() if not str(k).startswith("_")}
+    return result

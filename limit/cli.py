@@ -34,6 +34,14 @@ def _parser() -> argparse.ArgumentParser:
                     help="friction polygon around (paper) or inside the friction circle; auto: paper for 4 faces, inscribed above")
     ps.add_argument("--check-kinematic", action="store_true",
                     help="also solve the kinematic LP and record its alpha (duality check)")
+    ps.add_argument("--nlp-solver", choices=["auto", "slsqp", "sla"], default="auto",
+                    help="step 2 solver: SLSQP (small problems) or successive LP; auto picks by size")
+    ps.add_argument("--global", dest="global_check", action="store_true",
+                    help="also compute the global frictional minimum by mixed-integer LP (scenes up to 30 free blocks)")
+    ps.add_argument("--iterative-lp", action="store_true",
+                    help="also run the iterative LP of Gilbert, Casapulla & Ahmed (2006)")
+    ps.add_argument("--arbitrary-start", action="store_true",
+                    help="also run the NLP from an arbitrary start (the paper's Fig. 4 comparison)")
     return p
 
 
@@ -48,8 +56,10 @@ def cmd_solve(args) -> int:
         raise SceneError(f"--slide-faces: must be an even number >= 4, got {args.slide_faces}")
     scene = load_scene(args.scene)
     opts = Options(model=args.model, n_slide=args.slide_faces, slide_fit=args.slide_fit)
+    nlp_options = {"solver": args.nlp_solver, "global_check": args.global_check, "iterative": args.iterative_lp,
+                   "arbitrary": args.arbitrary_start}
     res = analyse(scene, method=args.method, options=opts, solver=args.solver,
-                  fallback=not args.no_fallback, check_kinematic=args.check_kinematic)
+                  fallback=not args.no_fallback, check_kinematic=args.check_kinematic, nlp_options=nlp_options)
     print(format_result(res))
     if args.json:
         jsonio.write_json(args.json, public(res))

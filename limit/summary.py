@@ -23,6 +23,19 @@ def format_result(res: dict) -> str:
     if nlp:
         lines.append(f"NLP ({nlp.get('solver', '-')}): {_alpha(nlp)}  [{nlp['status']}, {nlp.get('time_s', 0):.3g} s]"
                      + (f"  {nlp['reason']}" if nlp.get("reason") else ""))
-        if nlp.get("summary"):
-            lines += nlp["summary"]
+        if nlp.get("_summary"):
+            lines += nlp["_summary"]
+        if nlp.get("alpha_arbitrary_start") is not None or nlp.get("arbitrary_start_status"):
+            a = nlp.get("alpha_arbitrary_start")
+            lines.append(f"  from an arbitrary start: {'alpha = %.6g' % a if a is not None else nlp['arbitrary_start_status']}")
+        g = nlp.get("global")
+        if g:
+            a = g.get("alpha")
+            lines.append(f"global minimum (MILP): {'alpha = %.6g' % a if a is not None else '-'}  [{g['status']}, "
+                         f"{g.get('time_s') or 0:.3g} s]" + (f"  gap of the NLP {g['gap']:.2e}" if g.get("gap") is not None else ""))
+        it = nlp.get("iterative_lp")
+        if it:
+            a = it.get("alpha")
+            lines.append(f"iterative LP (Gilbert et al. 2006): {'alpha = %.6g' % a if a is not None else '-'}  "
+                         f"[{it['status']}, {it.get('iterations')} LPs]")
     return "\n".join(lines)

@@ -44,7 +44,7 @@ def kinematic_residuals(P, u, lam, flow: str = "associative") -> dict:
         terms = (P.Eh.T @ vh, P.Yh.T @ lamh)
         res = terms[0] + terms[1]
     else:
-        Gh = (sp.diags(1.0 / P.Dx) @ P.model.G @ sp.diags(1.0 / P.Sy)).tocsr()  # flow in scaled x-space
+        Gh = (sp.diags(P.Dx) @ P.model.G @ sp.diags(1.0 / P.Sy)).tocsr()  # flow in scaled x-space
         terms = (P.Eh.T @ vh, Gh @ lamh)
         res = terms[0] - terms[1]
     scale = max(_inf(terms[0]), _inf(terms[1]), 1.0)

@@ -103,6 +103,34 @@ def portal(dim=2, col_b=0.3, col_h=1.5, span=1.0, lintel_h=0.3, overhang=0.0, t=
     return scene(name or f"portal-{dim}d", dim, blocks, friction=mu, **kw)
 
 
+def side_by_side(dim=2, tall=(0.2, 1.0), squat=(0.5, 0.6), t=0.3, mu=0.5, name=None, **kw) -> dict:
+    """A slender block "A" (b1 x h1) standing against a squat one "B" (b2 x h2) on a fixed base.
+
+    Under a horizontal body force along +x the frictional collapse combines rocking
+    and sliding: A rocks about its right toe, pivoting on B's top corner, and pushes
+    B, which slides. With the friction at the A|B corner as favourable as
+    equilibrium allows (|V| = mu H), the work and equilibrium equations give
+
+        alpha = (h2 W_B mu + W_A b1 (1 + mu^2) / 2) / (W_A h1 (1 + mu^2) / 2 + h2 W_B),
+
+    23/61 = 0.37705 for the defaults (mu = 0.5), below the associative LP's 7/17
+    = 0.41176, whose dilatant sliding of B forbids that mechanism.
+    """
+    (b1, h1), (b2, h2) = tall, squat
+    blocks = [base(dim, -b1, b1 + 2 * b2, -t, 2 * t),
+              _place(dim, "A", 0.0, b1, 0.0, h1, 0.0, t, tags=["tall"]),
+              _place(dim, "B", b1, b1 + b2, 0.0, h2, 0.0, t, tags=["squat"])]
+    return scene(name or f"side-by-side-{dim}d", dim, blocks, friction=mu, **kw)
+
+
+def side_by_side_alpha(tall=(0.2, 1.0), squat=(0.5, 0.6), mu=0.5, t=1.0) -> float:
+    """The closed-form frictional collapse factor of :func:`side_by_side` (see there)."""
+    (b1, h1), (b2, h2) = tall, squat
+    WA, WB = b1 * h1 * t, b2 * h2 * t
+    k = 1.0 + mu * mu
+    return (h2 * WB * mu + WA * b1 * k / 2) / (WA * h1 * k / 2 + h2 * WB)
+
+
 # ----------------------------------------------------------------------------
 # Walls
 

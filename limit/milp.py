@@ -1,0 +1,127 @@
+"""Global minimum of the frictional problem for small scenes, as a mixed-integer LP.
+
+The NLP of :mod:`limit.nlp_problem` is linear but for the complementarity
+``lam_j s_j = 0`` of every yield face j. With one binary y_j per face
+(y_j = 1: the face may flow and its slack is zero; y_j = 0: it holds and its
+multiplier is zero) and bounds
+
+    lam_j <= L_j y_j,     s_j <= S_j (1 - y_j),
+
+the problem becomes a MILP whose optimum is the global minimum of alpha
+(scipy.optimize.milp, HiGHS branch and cut). Two things make it solvable:
+
+* tight bounds: S_j is the largest slack of face j over all statically
+  admissible stresses with 0 <= alpha <= alpha_ub, L_j the largest multiplier
+  over all mechanisms whose dead-load work is at most alpha_ub (one small LP
+  each); alpha_ub is the best value known (the NLP's, else the LP's);
+* the valid inequality ``alpha >= -f0 . u``: by the work equation
+  alpha = -f0 . u + (frictional dissipation >= 0) at every complementary point.
+
+Unbounded L_j (faces free to slide at zero normal force) are capped and the
+cap is enlarged until no multiplier reaches it. Practical up to some 30 blocks.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import Bounds, LinearConstraint, milp
+
+from . import lpsub
+from .nlp_problem import build
+
+
+def _bounds(N, P, alpha_ub, deadline):
+    """Per-face slack bounds S and multiplier bounds L (inf where unbounded)."""
+    nf = P.model.n_faces
+    lo, hi = N.bounds()
+    lo[N.ia], hi[N.ia] = 0.0, alpha_ub
+    ndof = P.n_dof
+    S = np.full(nf, np.inf)
+    L = np.full(nf, np.inf)
+    A_s, b_s = N.Aeq[:ndof], N.beq[:ndof]
+    zero = np.zeros(nf)
+    for j in range(nf):
+        if time.perf_counter() > deadline:
+            raise TimeoutError
+        r = lpsub.solve(N.Yx[j].toarray().ravel(), A_s, b_s, N.Yx, zero, lo, hi)
+        if r.ok:
+            S[j] = max(-r.fun, 0.0)
+    work = sp.hstack([sp.csr_matrix((1, 1 + P.model.n_x)), sp.csr_matrix(-P.f0h.reshape(1, -1)),
+                      sp.csr_matrix((1, nf))]).tocsr()
+    A_k, b_k = N.Aeq[ndof:], N.beq[ndof:]
+    for j in range(nf):
+        if time.perf_counter() > deadline:
+            raise TimeoutError
+        c = np.zeros(N.n)
+        c[N.sl.start + j] = -1.0
+        r = lpsub.solve(c, A_k, b_k, work, np.array([alpha_ub]), lo, hi)
+        if r.ok:
+            L[j] = max(-r.fun, 0.0)
+    return S, L
+
+
+def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: int = 4) -> dict:
+    """{"status", "alpha", "z", "time_s", "bound", "reason"} of the complementarity MILP.
+
+    ``alpha_ub``: a known feasible value (NLP) or the LP's alpha. "optimal" means
+    proven global optimum (relative gap 1e-7); "time_limit" returns the best
+    point found (``alpha``, may be None) and the proven lower bound (``bound``).
+    """
+    t0 = time.perf_counter()
+    deadline = t0 + time_limit
+    N = build(P)
+    nf = P.model.n_faces
+    n = N.n
+    try:
+        S, L = _bounds(N, P, alpha_ub * (1 + 1e-9) + 1e-12, deadline)
+    except TimeoutError:
+        return {"status": "time_limit", "alpha": None, "bound": None, "time_s": time.perf_counter() - t0,
+                "reason": f"bound tightening not finished within {time_limit:g} s"}
+    finite = L[np.isfinite(L)]
+    cap = 10.0 * max(float(finite.max()) if finite.size else 1.0, 1.0)
+    lo, hi = N.bounds()
+    lo[N.ia], hi[N.ia] = 0.0, alpha_ub * (1 + 1e-9) + 1e-12
+    c = np.zeros(n + nf)
+    c[N.ia] = 1.0
+    integrality = np.concatenate([np.zeros(n), np.ones(nf)])
+    lam_cols = np.arange(N.sl.start, N.sl.stop)
+    sel = sp.csr_matrix((np.ones(nf), (np.arange(nf), lam_cols)), shape=(nf, n))
+    cut = sp.csr_matrix(np.concatenate([[-1.0], np.zeros(P.model.n_x), -P.f0h, np.zeros(nf), np.zeros(nf)]))
+    out = {}
+    for _ in range(max_enlarge + 1):
+        Lc = np.where(np.isfinite(L), L, cap)
+        Sc = np.where(np.isfinite(S), S, 10.0 * max(float(S[np.isfinite(S)].max(initial=1.0)), 1.0))
+        A = sp.vstack([
+            sp.hstack([N.Aeq, sp.csr_matrix((N.Aeq.shape[0], nf))]),
+            sp.hstack([N.Yx, sp.csr_matrix((nf, nf))]),
+            sp.hstack([sel, -sp.diags(Lc)]),
+            sp.hstack([-N.Yx, sp.diags(Sc)]),
+            cut,
+        ]).tocsr()
+        lb = np.concatenate([N.beq, np.full(3 * nf, -np.inf), [-np.inf]])
+        ub = np.concatenate([N.beq, np.zeros(nf), np.zeros(nf), Sc, [0.0]])
+        bl = np.concatenate([lo, np.zeros(nf)])
+        bu = np.concatenate([hi, np.ones(nf)])
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            break
+        res = milp(c, integrality=integrality, bounds=Bounds(bl, bu), constraints=LinearConstraint(A, lb, ub),
+                   options={"time_limit": left, "mip_rel_gap": 1e-7})
+        bound = getattr(res, "mip_dual_bound", None)
+        if res.x is None:
+            status = {1: "time_limit", 2: "infeasible", 3: "unbounded"}.get(res.status, "failed")
+            return {"status": status, "alpha": None, "bound": bound, "time_s": time.perf_counter() - t0,
+                    "reason": res.message}
+        z = res.x[:n]
+        out = {"status": "optimal" if res.status == 0 else "time_limit", "alpha": float(z[N.ia]), "z": z,
+               "bound": bound, "time_s": time.perf_counter() - t0, "reason": "" if res.status == 0 else res.message}
+        capped = (~np.isfinite(L)) & (z[N.sl] > 0.5 * cap)
+        if not capped.any():
+            return out
+        cap *= 10.0  # a capped multiplier came close to its cap: it might cut off the optimum
+    out["status"] = out.get("status", "time_limit") if out else "time_limit"
+    out.setdefault("reason", "multiplier cap still active")
+    out["time_s"] = time.perf_counter() - t0
+    return out

@@ -1,0 +1,405 @@
+"""Step 2: the non-associative frictional collapse factor, started from the LP (step 1).
+
+Problem: :mod:`limit.nlp_problem` (the paper's eqs. 7-10, unknowns alpha,
+interface actions, block velocities and plastic multipliers). Solvers:
+
+``slsqp`` (small problems, up to ``SLSQP_MAX_VARS`` unknowns)
+    scipy's SLSQP, the SQP method of the paper, on ``min alpha`` with the
+    linear constraints and the complementarity ``lam . s = 0`` as an equality,
+    every gradient analytic (constant for the linear constraints).
+``sla`` (any size)
+    a successive linearisation (sequential LP) of the exact-penalty problem
+    ``min alpha + rho lam . s`` over the polyhedron of the linear constraints:
+    each step solves one sparse LP for the direction (the linearised penalty,
+    analytic gradient), then an exact line search on the quadratic penalty;
+    rho grows tenfold until complementarity holds (Mangasarian's successive
+    linearisation algorithm for bilinear programs, which stops at a
+    stationary point). It replaces trust-constr, which on these problems is
+    both slower and less reliable (see bench/nlp_bench.py).
+
+Both start from the LP solution made compatible with the non-associative flow
+(phase 1: the LP stresses fixed, the mechanism re-solved to minimise the
+complementarity gap). The end point is polished by the *piece LP*: with each
+yield face assigned to "flows" (lam > 0 allowed, s = 0 imposed) or "holds"
+(lam = 0) as at the end point, the problem is an LP whose optimum is exactly
+complementary. The final point is then checked independently
+(:func:`check`): a result that fails is reported as "failed", never as a number.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import minimize
+
+from . import lpsub, mechanism, verify
+from .nlp_problem import NLPProblem, build
+from .yield_domain import SLIDE, TWIST
+
+SLSQP_MAX_VARS = 250
+TOL_COMP = 1e-7     # complementarity lam . s, in units of alpha (relative to max(1, alpha))
+
+
+# ---------------------------------------------------------------------------
+# Starting points
+
+
+def lp_start(N: NLPProblem, lp_sol) -> np.ndarray:
+    """The LP solution as a point of the NLP (flow generally violated)."""
+    return N.scale(lp_sol.alpha, lp_sol.x, lp_sol.u, lp_sol.lam)
+
+
+def phase1(N: NLPProblem, z0: np.ndarray, backend: str) -> tuple[np.ndarray | None, str]:
+    """Keep alpha and the stresses of z0, find a non-associative mechanism minimising lam . s."""
+    lo, hi = N.bounds()
+    lo[N.ia] = hi[N.ia] = z0[N.ia]
+    lo[N.sx] = hi[N.sx] = z0[N.sx]
+    c = np.zeros(N.n)
+    c[N.sl] = np.maximum(N.slack(z0), 0.0)
+    res = lpsub.solve(c, N.Aeq, N.beq, N.Yx, np.zeros(N.Yx.shape[0]), lo, hi, backend)
+    if not res.ok:
+        return None, f"phase 1 LP: {res.status}"
+    return res.z, ""
+
+
+def arbitrary_start(N: NLPProblem, seed: int = 0) -> np.ndarray:
+    """A start that knows nothing of the LP: small random stresses and multipliers, alpha = 0.5."""
+    rng = np.random.default_rng(seed)
+    z = rng.uniform(0.0, 1.0, N.n)
+    z[N.ia] = 0.5
+    return z
+
+
+# ---------------------------------------------------------------------------
+# Solvers
+
+
+def solve_slsqp(N: NLPProblem, z0: np.ndarray, maxiter: int = 100, tol: float = 1e-10) -> tuple[np.ndarray, str]:
+    """SLSQP on min alpha s.t. linear constraints and lam . s = 0 (analytic gradients)."""
+    Aeq = N.Aeq.toarray()
+    Yx = N.Yx.toarray()
+    e = np.zeros(N.n)
+    e[N.ia] = 1.0
+    lo, hi = N.bounds()
+    lo[N.ia] = 0.0
+    cons = [
+        {"type": "eq", "fun": lambda z: Aeq @ z - N.beq, "jac": lambda z: Aeq},
+        {"type": "ineq", "fun": lambda z: -(Yx @ z), "jac": lambda z: -Yx},
+        {"type": "eq", "fun": lambda z: np.array([N.comp(z)]), "jac": lambda z: N.comp_grad(z)[None, :]},
+    ]
+    bounds = list(zip(np.where(np.isfinite(lo), lo, None), np.where(np.isfinite(hi), hi, None)))
+    res = minimize(lambda z: z[N.ia], z0, jac=lambda z: e, method="SLSQP", constraints=cons, bounds=bounds,
+                   options={"maxiter": maxiter, "ftol": tol})
+    return res.x, f"SLSQP: {res.message} ({res.nit} iterations)"
+
+
+def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float = 1.0, rho_max: float = 1e6,
+              maxit: int = 200, lp=None, jitter: np.ndarray | None = None) -> tuple[np.ndarray, str]:
+    """Successive linearisation of min alpha + rho lam . s over the linear constraints.
+
+    ``lp``: an :class:`limit.lpsub.HighsLP` of the constraint polyhedron to reuse
+    (warm starts across steps and runs); built here for the "highs" backend if not given.
+    ``jitter`` (n_faces,) >= 0: extra cost per unit multiplier, rho * jitter . lam, which
+    steers a restart towards other mechanisms (the final point is re-checked without it).
+    """
+    z = z0.copy()
+    lo, hi = N.bounds()
+    lo[N.ia] = 0.0
+    e = np.zeros(N.n)
+    e[N.ia] = 1.0
+    bub = np.zeros(N.Yx.shape[0])
+    if lp is None and backend == "highs":
+        lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, bub, lo, hi)
+    rho = rho0
+    iters = 0
+    while True:
+        for _ in range(maxit):
+            iters += 1
+            g = e + rho * N.comp_grad(z)
+            if jitter is not None:
+                g[N.sl] += rho * jitter
+            res = lp.solve(g) if lp is not None else lpsub.solve(g, N.Aeq, N.beq, N.Yx, bub, lo, hi, backend)
+            if not res.ok:
+                return z, f"SLA: direction LP failed ({res.status}) after {iters} LPs"
+            d = res.z - z
+            slope = float(g @ d)
+            f = z[N.ia] + rho * N.comp(z)
+            if slope >= -1e-10 * (1.0 + abs(f)):
+                break
+            ds = -(N.P.Yh @ d[N.sx])
+            curv = rho * float(d[N.sl] @ ds)
+            t = 1.0 if curv <= 0 else min(1.0, -slope / (2.0 * curv))
+            z = z + t * d
+        if N.comp(z) <= TOL_COMP * max(1.0, z[N.ia]) or rho >= rho_max:
+            break
+        rho *= 10.0
+    return z, f"SLA: {iters} LPs, final penalty {rho:g}"
+
+
+def polish(N: NLPProblem, z: np.ndarray, backend: str, rule: str = "ratio") -> tuple[np.ndarray | None, str]:
+    """The piece LP: faces that flow at z keep s = 0, the others lam = 0; min alpha exactly complementary.
+
+    ``rule`` picks the flowing faces: "ratio" (lam_j / max lam > s_j / max s) or
+    "support" (lam_j > 1e-9 max lam: every face the mechanism uses).
+    """
+    lam = np.maximum(z[N.sl], 0.0)
+    s = np.maximum(N.slack(z), 0.0)
+    lmax = max(lam.max(initial=0.0), 1e-300)
+    if rule == "ratio":
+        flows = lam / lmax > s / max(s.max(initial=0.0), 1e-300)
+    else:
+        flows = lam > 1e-9 * lmax
+    lo, hi = N.bounds()
+    lo[N.ia] = 0.0
+    hi[N.sl.start + np.flatnonzero(~flows)] = 0.0  # lam_j = 0 where the face holds
+    act = np.flatnonzero(flows)
+    keep = np.flatnonzero(~flows)
+    # s_j = 0 where the face flows: -Yh x = 0 as equalities; s >= 0 elsewhere.
+    Aeq = sp.vstack([N.Aeq, N.Yx[act]]).tocsr()
+    beq = np.concatenate([N.beq, np.zeros(act.size)])
+    c = np.zeros(N.n)
+    c[N.ia] = 1.0
+    res = lpsub.solve(c, Aeq, beq, N.Yx[keep], np.zeros(keep.size), lo, hi, backend)
+    if not res.ok:
+        return None, f"piece LP ({rule}): {res.status}"
+    return res.z, f"piece LP ({rule}) with {act.size} flowing faces"
+
+
+# ---------------------------------------------------------------------------
+# Independent check
+
+
+def check(N: NLPProblem, z: np.ndarray, alpha_lp: float | None) -> tuple[bool, dict, str]:
+    """Residuals of a final NLP point, unscaled and measured independently of the solver."""
+    P = N.P
+    alpha, x, u, lam = N.unscale(z)
+    r = verify.static_residuals(P, alpha, x)
+    r.update(verify.kinematic_residuals(P, u, lam, "nonassociative"))
+    lamh, s = z[N.sl], N.slack(z)
+    r["complementarity"] = float(np.sum(np.abs(lamh * s))) / max(1.0, abs(alpha))
+    r["alpha_above_lp"] = max(0.0, alpha - alpha_lp) / max(1.0, abs(alpha_lp)) if alpha_lp is not None else 0.0
+    limits = {"equilibrium": verify.TOL_EQ, "yield": verify.TOL_YIELD, "compatibility": verify.TOL_KIN,
+              "multipliers": verify.TOL_KIN, "normalisation": verify.TOL_KIN, "complementarity": 1e-6,
+              "alpha_above_lp": 1e-6}
+    bad = [f"{k} residual {r[k]:.2e} > {lim:.0e}" for k, lim in limits.items() if not (r[k] <= lim)]
+    return not bad, r, "; ".join(bad)
+
+
+# ---------------------------------------------------------------------------
+# Step 2
+
+
+def needs_nlp(P, lp_sol) -> tuple[bool, str]:
+    """Whether step 2 can change the LP answer: only if an interface slides or twists in it."""
+    cls = mechanism.classify(P, lp_sol.u)
+    n_slide, n_twist = int(cls["slide"].sum()), int(cls["twist"].sum())
+    # The multipliers say the same: no sliding or twisting face flows.
+    kinds = P.model.kind
+    lam = np.asarray(lp_sol.lam)
+    ref = max(float(lam.max(initial=0.0)), 1e-300)
+    flowing = (kinds == SLIDE) | (kinds == TWIST)
+    lam_flow = bool(np.any(lam[flowing] > mechanism.ACTIVE * ref))
+    if n_slide == 0 and n_twist == 0 and not lam_flow:
+        return False, ("no interface slides or twists in the LP mechanism: it is also a frictional "
+                       "(non-dilatant) mechanism, so alpha_nlp = alpha_lp")
+    return True, f"{n_slide} interface(s) slide and {n_twist} twist in the LP mechanism"
+
+
+def _finish(N, z, alpha_lp, backend):
+    """Polish z with the piece LP when that helps, then check it: (z, ok, residuals, reason, note)."""
+    cands = []
+    for rule in ("ratio", "support"):
+        zp, note = polish(N, z, backend, rule)
+        if zp is not None:
+            cands.append((zp, note))
+    cands.sort(key=lambda c: c[0][N.ia])
+    cands.append((z, "unpolished"))
+    best = None
+    for zc, nt in cands:
+        ok, res, why = check(N, zc, alpha_lp)
+        if ok:
+            return zc, True, res, "", nt
+        if best is None:
+            best = (zc, False, res, why, nt)
+    return best
+
+
+#: randomised SLA restarts from the LP start (by problem size: unknowns <= 5000, above)
+RANDOM_RESTARTS = (6, 2)
+#: friction factors of the extra associative-LP starts (see :func:`reduced_friction_starts`)
+FRICTION_FACTORS = (0.5, 0.25)
+
+
+def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FACTORS) -> list:
+    """Starts from the associative LP solved with the friction coefficients scaled down.
+
+    Its stresses satisfy the real (higher) friction bound, and it collapses through
+    mechanisms in which joints slide more freely; made compatible with the
+    non-associative flow (phase 1) they lead the NLP to collapses in which joints
+    open and slide at zero normal force, which the dilatant mechanism of the
+    full-friction LP cannot reach. Measured on running-bond walls (bench/nlp_bench.py):
+    without these starts the NLP missed the global minimum in half of the cases.
+    """
+    import dataclasses
+
+    from .analysis import solve_lp
+    from .assemble import assemble
+
+    out = []
+    for f in factors:
+        I2 = dataclasses.replace(P.I, mu=P.I.mu * f)
+        P2 = assemble(P.scene, P.options, interfaces=I2)
+        sol2, _, _ = solve_lp(P2)
+        if sol2.status != "optimal":
+            continue
+        z = N.join(sol2.alpha, sol2.x / P.Dx, np.zeros(P.n_dof), np.zeros(P.model.n_faces))
+        z0, _ = phase1(N, z, backend)
+        if z0 is not None:
+            out.append((f"lp-mu*{f:g}", z0))
+    return out
+
+
+def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto", seed: int = 0,
+        restarts: bool = True) -> dict:
+    """Solve step 2 from the given start; returns the raw outcome (not yet the result part).
+
+    From the LP start the primary solver (SLSQP for small problems, SLA otherwise)
+    runs first. With ``restarts`` the SLA also runs from the same start with
+    initial penalties 1, 0.1 and 0.01 (a low penalty lets it wander further before
+    complementarity is enforced), a few times with random positive costs on the
+    multipliers (RANDOM_RESTARTS; seeded, reproducible), and from the associative
+    LPs at reduced friction (:func:`reduced_friction_starts`). The problem is
+    non-convex: each run ends at a local solution; the lowest alpha that passes
+    the independent check is kept and every run is listed.
+    """
+    t0 = time.perf_counter()
+    N = build(P)
+    if backend == "auto":
+        backend = "highs" if N.n <= 3000 else "clarabel"
+    if solver == "auto":
+        solver = "slsqp" if N.n <= SLSQP_MAX_VARS else "sla"
+    rng = np.random.default_rng(seed)
+    if start == "lp":
+        z0, why = phase1(N, lp_start(N, lp_sol), backend)
+        if z0 is None:
+            return {"ok": False, "reason": f"no non-associative mechanism from the LP start ({why})",
+                    "solver": solver, "time_s": time.perf_counter() - t0, "runs": []}
+        label = "lp"
+    else:
+        z0, label = arbitrary_start(N, seed), "arbitrary"
+    plan = [(label, z0, solver, 1.0, None)]
+    if restarts:
+        plan += [(label, z0, "sla", r, None) for r in (1.0, 0.1, 0.01) if (solver, 1.0) != ("sla", r)]
+        n_random = RANDOM_RESTARTS[0] if N.n <= 5000 else RANDOM_RESTARTS[1]
+        s0 = np.maximum(N.slack(z0), 0.0)
+        scale = float(s0.mean()) if s0.size and s0.mean() > 0 else 1.0
+        for _ in range(n_random):
+            plan.append((label, z0, "sla", float(rng.choice([1.0, 0.1, 0.01])),
+                         0.2 * scale * rng.uniform(0, 1, P.model.n_faces)))
+        for lab, zs in reduced_friction_starts(P, N, backend):
+            plan += [(lab, zs, "sla", r, None) for r in (1.0, 0.1, 0.01)]
+    lp = None
+    if backend == "highs" and any(p[2] == "sla" for p in plan):
+        lo, hi = N.bounds()
+        lo[N.ia] = 0.0
+        lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, np.zeros(N.Yx.shape[0]), lo, hi)
+    runs, best = [], None
+    for lab, zs, name, rho0, jitter in plan:
+        t1 = time.perf_counter()
+        if name == "slsqp":
+            z, note = solve_slsqp(N, zs)
+        elif name == "sla":
+            z, note = solve_sla(N, zs, backend, rho0=rho0, lp=lp, jitter=jitter)
+        else:
+            raise ValueError(f"unknown NLP solver {name!r} (slsqp, sla or auto)")
+        alpha_raw = float(z[N.ia])
+        zf, ok, res, why, pnote = _finish(N, z, lp_sol.alpha, backend)
+        run = {"start": lab, "solver": name, "rho0": rho0, "random": jitter is not None, "alpha": float(zf[N.ia]),
+               "alpha_raw": alpha_raw, "verified": ok, "reason": why, "notes": [note, pnote],
+               "time_s": time.perf_counter() - t1}
+        runs.append(run)
+        if best is None or (ok, -zf[N.ia]) > (best[1], -best[0][N.ia]):
+            best = (zf, ok, res, why, run)
+    zf, ok, res, why, run = best
+    return {"ok": ok, "z": zf, "N": N, "alpha": float(zf[N.ia]), "alpha_raw": run["alpha_raw"], "residuals": res,
+            "reason": why, "notes": run["notes"], "solver": run["solver"], "start": run["start"], "backend": backend,
+            "runs": runs, "time_s": time.perf_counter() - t0}
+
+
+#: the mixed-integer global check runs for scenes up to this many free blocks
+GLOBAL_MAX_BLOCKS = 30
+
+
+def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = "auto",
+          arbitrary: bool = False, global_check: bool = False, iterative: bool = False,
+          global_time_limit: float = 120.0) -> dict:
+    """The ``nlp`` part of the result file (CONTRACT.md section 3).
+
+    ``method`` "auto" skips the NLP where it cannot change the answer; "nlp" always runs it.
+    ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).
+    ``global_check`` adds the mixed-integer global minimum (:mod:`limit.milp`) for scenes of up
+    to GLOBAL_MAX_BLOCKS free blocks; ``iterative`` the iterative LP of Gilbert et al.
+    (:mod:`limit.iterative_lp`).
+    """
+    t0 = time.perf_counter()
+    if lp_sol.status != "optimal":
+        status = "infeasible" if lp_sol.status == "infeasible" else "skipped"
+        return {"status": status, "alpha": None, "time_s": 0.0,
+                "reason": f"the LP (step 1) is {lp_sol.status}: no start for step 2"}
+    need, why = needs_nlp(P, lp_sol)
+    if method == "auto" and not need:
+        part = {"status": "skipped", "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
+                "mechanism": mechanism.per_block(P, lp_sol.u)}
+        _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
+        return part
+    out = run(P, lp_sol, solver=solver, start="lp", backend=backend)
+    part = {"status": "optimal" if out["ok"] else "failed", "alpha": out["alpha"] if out["ok"] else None,
+            "time_s": time.perf_counter() - t0, "solver": out.get("solver"), "start": out.get("start", "lp")}
+    if not out["ok"]:
+        part["reason"] = out["reason"]
+        if "alpha" in out:
+            part["alpha_rejected"] = out["alpha"]
+    if "residuals" in out:
+        part["verification"] = out["residuals"]
+        part["alpha_before_polish"] = out["alpha_raw"]
+        part["notes"] = out["notes"]
+    part["runs"] = out.get("runs", [])
+    if out["ok"]:
+        N, z = out["N"], out["z"]
+        _, x, u, lam = N.unscale(z)
+        cls = mechanism.classify(P, u)
+        from .analysis import interfaces_part
+
+        part["mechanism"] = mechanism.per_block(P, u)
+        part["normalisation"] = "unit work of the live load: fL . u = 1"
+        part["interfaces"] = interfaces_part(P, P.model.H @ x, cls)
+        part["counts"] = {k: int(v.sum()) for k, v in cls.items()}
+        part["_summary"] = ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]
+    if arbitrary:
+        arb = run(P, lp_sol, solver=solver, start="arbitrary", backend=backend, restarts=False)
+        part["alpha_arbitrary_start"] = arb.get("alpha") if arb.get("ok") else None
+        part["arbitrary_start_status"] = "optimal" if arb.get("ok") else f"failed: {arb.get('reason')}"
+    _independent(P, lp_sol, part, part["alpha"] if out["ok"] else lp_sol.alpha, global_check, iterative,
+                 global_time_limit)
+    part["time_s"] = time.perf_counter() - t0
+    return part
+
+
+def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit):
+    """Add the independent routes (global MILP, iterative LP) to a result part, in place."""
+    from . import iterative_lp, milp
+
+    n_free = P.n_dof // P.scene.ndof
+    if global_check:
+        if n_free > GLOBAL_MAX_BLOCKS:
+            part["global"] = {"status": "skipped", "reason": f"{n_free} free blocks > {GLOBAL_MAX_BLOCKS}"}
+        else:
+            g = milp.global_minimum(P, alpha_ub, time_limit=time_limit)
+            entry = {k: g.get(k) for k in ("status", "alpha", "bound", "time_s", "reason")}
+            if g.get("alpha") is not None and part.get("alpha") is not None:
+                entry["gap"] = (part["alpha"] - g["alpha"]) / max(abs(g["alpha"]), 1e-12)
+            part["global"] = entry
+    if iterative:
+        it = iterative_lp.solve(P, lp_sol)
+        part["iterative_lp"] = {k: it.get(k) for k in ("status", "alpha", "iterations", "time_s", "reason")}

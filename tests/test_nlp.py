@@ -1,0 +1,149 @@
+"""Step 2 (the frictional NLP) against closed forms, the global MILP and the iterative LP."""
+import numpy as np
+import pytest
+
+from limit import iterative_lp, milp, nlp
+from limit.analysis import analyse, solve_lp
+from limit.assemble import assemble
+from limit.nlp_problem import build
+from limit.scene import load_scene
+from limit.yield_domain import TWIST
+from scenes import builders as B
+
+
+def setup(d):
+    P = assemble(load_scene(d))
+    sol, _, _ = solve_lp(P)
+    assert sol.status == "optimal"
+    return P, sol
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_single_block_sliding_nlp_equals_lp_equals_mu(dim):
+    mu = 0.35
+    res = analyse(load_scene(B.single_block(dim=dim, b=1.0, h=0.5, t=1.0, mu=mu)), method="nlp")
+    assert res["lp"]["alpha"] == pytest.approx(mu, rel=1e-6)
+    assert res["nlp"]["status"] == "optimal"
+    assert res["nlp"]["alpha"] == pytest.approx(mu, rel=1e-6)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_rocking_and_sliding_combined(dim):
+    """NLP < LP; the same value from the closed form, the global MILP and the iterative LP (to 1e-4)."""
+    d = B.side_by_side(dim=dim, mu=0.5)
+    P, sol = setup(d)
+    closed = B.side_by_side_alpha(mu=0.5)
+    res = nlp.step2(P, sol, method="nlp", global_check=True, iterative=True)
+    assert res["status"] == "optimal"
+    a = res["alpha"]
+    assert sol.alpha == pytest.approx(7 / 17, rel=1e-6)  # associative: B dilates as it slides
+    assert a < sol.alpha - 1e-3
+    assert a == pytest.approx(closed, rel=1e-4)
+    assert res["global"]["status"] == "optimal"
+    assert res["global"]["alpha"] == pytest.approx(a, rel=1e-4)
+    assert res["iterative_lp"]["status"] == "converged"
+    assert res["iterative_lp"]["alpha"] == pytest.approx(a, rel=1e-4)
+
+
+def test_wall_that_opens_while_it_slides():
+    """3 x 3 running-bond wall, mu = 1.2: the LP's dilatant mechanism gives 1.0; the end blocks can
+    instead rock about a toe while the joints above open and slide (DEM probe: 0.357)."""
+    P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
+    res = nlp.step2(P, sol, method="nlp", global_check=True)
+    assert sol.alpha == pytest.approx(1.0, rel=1e-6)
+    assert res["status"] == "optimal"
+    assert res["global"]["status"] == "optimal"
+    assert res["alpha"] == pytest.approx(res["global"]["alpha"], rel=1e-4)
+    assert res["alpha"] == pytest.approx(5 / 14, rel=1e-4)
+
+
+def test_skip_rule_pure_rocking():
+    P, sol = setup(B.portal(dim=2, mu=0.9))
+    res = nlp.step2(P, sol, method="auto", global_check=True)
+    assert res["status"] == "skipped"
+    assert "no interface slides or twists" in res["reason"]
+    assert res["alpha"] == pytest.approx(sol.alpha)
+    # the rule is right here: the global frictional minimum is the LP value
+    assert res["global"]["alpha"] == pytest.approx(sol.alpha, rel=1e-6)
+
+
+def test_skip_rule_runs_nlp_when_lp_mechanism_slides():
+    P, sol = setup(B.side_by_side(dim=2, mu=0.5))
+    res = nlp.step2(P, sol, method="auto")
+    assert res["status"] == "optimal"
+
+
+def test_no_twisting_unknowns_in_2d():
+    P, _ = setup(B.side_by_side(dim=2))
+    assert not np.any(P.model.kind == TWIST)
+    assert P.model.n_x == 3 * len(P.I)
+    P3, _ = setup(B.side_by_side(dim=3))
+    assert np.any(P3.model.kind == TWIST)
+
+
+def test_check_rejects_a_corrupted_solution():
+    P, sol = setup(B.side_by_side(dim=2, mu=0.5))
+    out = nlp.run(P, sol)
+    N, z = out["N"], out["z"]
+    ok, _, _ = nlp.check(N, z, sol.alpha)
+    assert ok
+    bad = z.copy()
+    bad[N.ia] *= 0.9  # a lower alpha with the same stresses breaks equilibrium
+    ok, res, why = nlp.check(N, bad, sol.alpha)
+    assert not ok and "equilibrium" in why
+    bad = z.copy()
+    bad[N.sl] += 0.5 * np.abs(bad[N.sl]).max()  # flow on faces that hold: compatibility and complementarity
+    ok, res, why = nlp.check(N, bad, sol.alpha)
+    assert not ok and "compatibility" in why and "complementarity" in why
+    bad = z.copy()
+    bad[N.sx] *= 3.0  # stresses beyond the yield domain and out of equilibrium
+    ok, res, why = nlp.check(N, bad, sol.alpha)
+    assert not ok and ("yield" in why or "equilibrium" in why)
+
+
+def test_failed_check_gives_failed_status(monkeypatch):
+    P, sol = setup(B.side_by_side(dim=2, mu=0.5))
+    real = nlp.check
+
+    def corrupt(N, z, alpha_lp):
+        z = z.copy()
+        z[N.ia] *= 0.5
+        return real(N, z, alpha_lp)
+
+    monkeypatch.setattr(nlp, "check", corrupt)
+    res = nlp.step2(P, sol, method="nlp")
+    assert res["status"] == "failed"
+    assert res["alpha"] is None
+    assert "equilibrium" in res["reason"]
+
+
+def test_lp_start_beats_arbitrary_start():
+    """The paper's Fig. 4 lesson: plain SQP from an arbitrary start ends at poor points or fails;
+    from the LP start it reaches the global minimum (checked by the MILP)."""
+    P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
+    best = nlp.run(P, sol)
+    g = milp.global_minimum(P, best["alpha"])
+    assert g["status"] == "optimal"
+    assert best["ok"] and best["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
+    outcomes = []
+    for seed in range(4):
+        arb = nlp.run(P, sol, solver="slsqp", start="arbitrary", seed=seed, restarts=False)
+        outcomes.append(arb["alpha"] if arb["ok"] else None)
+    # every arbitrary start fails its check or ends more than 10 % above the global minimum
+    assert all(a is None or a > 1.1 * g["alpha"] for a in outcomes), outcomes
+
+
+def test_nlp_never_above_lp_and_problem_shapes():
+    P, sol = setup(B.running_bond_wall(4, 4, dim=2, L=0.4, H=0.3, mu=0.9))
+    out = nlp.run(P, sol)
+    N = build(P)
+    assert N.n == 1 + P.model.n_x + P.n_dof + P.model.n_faces
+    assert out["ok"]
+    assert out["alpha"] <= sol.alpha + 1e-9
+
+
+def test_iterative_lp_on_pure_sliding_block():
+    P, sol = setup(B.single_block(dim=2, b=1.0, h=0.5, mu=0.3))
+    it = iterative_lp.solve(P, sol)
+    assert it["status"] == "converged"
+    assert it["alpha"] == pytest.approx(0.3, rel=1e-6)
