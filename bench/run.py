@@ -1,13 +1,23 @@
-"""``make bench``: runs every benchmark module and writes its figures to bench/out/."""
+"""``make bench``: runs every benchmark and writes its figures to bench/out/.
+
+``python -m bench.run [names...]`` runs only the named ones (interfaces, lp, nlp, dem).
+"""
 from __future__ import annotations
 
+import importlib
 import sys
 
-from . import interfaces_bench
+BENCHES = ["interfaces", "lp", "nlp", "dem"]
 
 
-def main() -> int:
-    interfaces_bench.main()
+def main(argv=None) -> int:
+    names = (argv if argv is not None else sys.argv[1:]) or BENCHES
+    for name in names:
+        if name not in BENCHES:
+            print(f"unknown benchmark {name!r} (one of {', '.join(BENCHES)})", file=sys.stderr)
+            return 2
+        print(f"== bench {name}", flush=True)
+        importlib.import_module(f"bench.{name}_bench").main()
     return 0
 
 

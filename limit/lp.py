@@ -61,8 +61,9 @@ class LPSolution:
     form: str = "static"
 
 
-def _solve(prob: cp.Problem, solver: str) -> tuple[str, dict]:
+def _solve(prob: cp.Problem, solver: str, overrides: dict | None = None) -> tuple[str, dict]:
     name, opts = SOLVERS[solver]
+    opts = {**opts, **(overrides or {})}
     t0 = time.perf_counter()
     try:
         prob.solve(solver=name, **opts)
@@ -90,14 +91,14 @@ def _map_status(status: str) -> tuple[str, str]:
     return "failed", f"the solver reported {status}"
 
 
-def static_lp(P: Assembled, solver: str = DEFAULT_SOLVER) -> LPSolution:
-    """Maximise alpha over statically admissible interface actions."""
+def static_lp(P: Assembled, solver: str = DEFAULT_SOLVER, overrides: dict | None = None) -> LPSolution:
+    """Maximise alpha over statically admissible interface actions (``overrides``: solver options)."""
     xh = cp.Variable(P.model.n_x)
     a = cp.Variable()
     eq = P.Eh @ xh + P.fLh * a == -P.f0h
     ineq = P.Yh @ xh <= 0
     prob = cp.Problem(cp.Maximize(a), [eq, ineq])
-    status, t = _solve(prob, solver)
+    status, t = _solve(prob, solver, overrides)
     st, reason = _map_status(status)
     sol = LPSolution(st, solver=solver, cvxpy_status=str(status), reason=reason, timings=t, form="static")
     if st in ("optimal", "inaccurate") and xh.value is not None and eq.dual_value is not None:

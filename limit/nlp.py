@@ -260,8 +260,11 @@ def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FAC
     return out
 
 
+ALL_STRATEGIES = ("penalty", "random", "friction")
+
+
 def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto", seed: int = 0,
-        restarts: bool = True) -> dict:
+        restarts: bool = True, strategies=ALL_STRATEGIES) -> dict:
     """Solve step 2 from the given start; returns the raw outcome (not yet the result part).
 
     From the LP start the primary solver (SLSQP for small problems, SLA otherwise)
@@ -289,14 +292,17 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     else:
         z0, label = arbitrary_start(N, seed), "arbitrary"
     plan = [(label, z0, solver, 1.0, None)]
-    if restarts:
+    strategies = set(strategies) if restarts else set()
+    if "penalty" in strategies:
         plan += [(label, z0, "sla", r, None) for r in (1.0, 0.1, 0.01) if (solver, 1.0) != ("sla", r)]
+    if "random" in strategies:
         n_random = RANDOM_RESTARTS[0] if N.n <= 5000 else RANDOM_RESTARTS[1]
         s0 = np.maximum(N.slack(z0), 0.0)
         scale = float(s0.mean()) if s0.size and s0.mean() > 0 else 1.0
         for _ in range(n_random):
             plan.append((label, z0, "sla", float(rng.choice([1.0, 0.1, 0.01])),
                          0.2 * scale * rng.uniform(0, 1, P.model.n_faces)))
+    if "friction" in strategies:
         for lab, zs in reduced_friction_starts(P, N, backend):
             plan += [(lab, zs, "sla", r, None) for r in (1.0, 0.1, 0.01)]
     lp = None

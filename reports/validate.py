@@ -1,47 +1,141 @@
-"""``make validate``: every catalog scene through every stage, then the report.
+"""``make validate``: every catalog scene through the limit analysis and the DEM, then the report.
 
-Stages so far: scene check and interface detection (``limit info``).
+Stages run in parallel through Dask: a local cluster with one single-threaded
+worker process per core by default, or an existing scheduler given by
+``--scheduler ADDRESS`` (or $DASK_SCHEDULER_ADDRESS), so the same command
+scales to a cluster (workers receive the scene content, not paths). Results
+are cached by scene content and code version (:mod:`reports.cache`): an
+unchanged scene is not recomputed, an interrupted run resumes, and every result
+is written atomically as soon as it arrives. The results table goes to
+``reports/out/results.csv`` and ``.parquet``, the report to
+``reports/out/index.html`` and ``index.md``.
 """
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import sys
 import time
 from pathlib import Path
 
-from limit import jsonio
-from limit.errors import SceneError
-from limit.info import scene_info
-from limit.scene import load_scene
-from scenes.catalog import catalog_files
+from .cache import DEFAULT_DIR, Cache, key
+from .stages import STAGES
 
 OUT = Path(__file__).resolve().parent / "out"
 
 
+def plan(files, stages, cache: Cache, fresh: bool):
+    """(done, todo): cached results and the (stage, name, key, data, options) still to run."""
+    done, todo = {}, []
+    for path in files:
+        data = json.loads(Path(path).read_text())
+        name = data.get("name", Path(path).stem)
+        for stage in stages:
+            opts_fn, _ = STAGES[stage]
+            opts = opts_fn(data)
+            k = key(stage, data, opts)
+            hit = None if fresh else cache.get(stage, name, k)
+            if hit is not None:
+                done[(name, stage)] = hit
+            else:
+                todo.append((stage, name, k, data, opts))
+    return done, todo
+
+
+def _run_task(stage, data, opts):
+    return STAGES[stage][1](data, opts)
+
+
+def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progress=True) -> dict:
+    """Run the stages through Dask; store each result in the cache as it arrives."""
+    results = {}
+    if not todo:
+        return results
+    from dask.distributed import Client, LocalCluster, as_completed
+    from tqdm import tqdm
+
+    cluster = None
+    if scheduler:
+        client = Client(scheduler)
+    else:
+        n = jobs or os.cpu_count() or 1
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=40)
+        client = Client(cluster)
+    try:
+        futures = {}
+        # Longest first: DEM stages, then the limit analyses.
+        for stage, name, k, data, opts in sorted(todo, key=lambda t: t[0] != "dem"):
+            f = client.submit(_run_task, stage, data, opts, key=f"{stage}-{name}-{k}", pure=False,
+                              priority=10 if stage == "dem" else 0)
+            futures[f] = (stage, name, k)
+        bar = tqdm(total=len(futures), unit="stage", disable=not progress, file=sys.stderr)
+        for f in as_completed(futures):
+            stage, name, k = futures[f]
+            try:
+                res = f.result()
+            except Exception as exc:  # a worker lost: recorded as a failure, the run goes on
+                res = {"status": "failed", "alpha": None, "reason": f"worker error: {type(exc).__name__}: {exc}"}
+                if stage == "la":
+                    res = {"lp": res}
+            if not (stage == "dem" and res.get("reason", "").startswith("worker error")):
+                cache.put(stage, name, k, res)
+            results[(name, stage)] = res
+            status = res.get("status") if stage == "dem" else res.get("lp", {}).get("status")
+            bar.set_postfix_str(f"{name} {stage}: {status}")
+            bar.update(1)
+        bar.close()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return results
+
+
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m reports.validate")
-    ap.add_argument("--out", default=str(OUT))
-    ap.add_argument("--jobs", type=int, default=None)
+    from scenes.catalog import catalog_files
+
+    ap = argparse.ArgumentParser(prog="python -m reports.validate", description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=str(OUT), help="report folder (default reports/out)")
+    ap.add_argument("--cache", default=str(DEFAULT_DIR), help="result cache folder (default .cache/results)")
+    ap.add_argument("--jobs", type=int, default=None, help="local worker processes (default: one per core)")
+    ap.add_argument("--scheduler", default=os.environ.get("DASK_SCHEDULER_ADDRESS"),
+                    help="address of an existing Dask scheduler (default: a local cluster)")
+    ap.add_argument("--only", nargs="*", help="run only these scene names")
+    ap.add_argument("--no-dem", action="store_true", help="skip the DEM stage")
+    ap.add_argument("--fresh", action="store_true", help="ignore cached results")
+    ap.add_argument("--no-progress", action="store_true")
     args = ap.parse_args(argv)
+
+    files = catalog_files()
+    if args.only:
+        files = [f for f in files if f.stem in set(args.only)]
+        missing = set(args.only) - {f.stem for f in files}
+        if missing:
+            print(f"error: unknown scene(s): {', '.join(sorted(missing))}", file=sys.stderr)
+            return 2
+    stages = ["la"] + ([] if args.no_dem else ["dem"])
+    cache = Cache(args.cache)
+    t0 = time.perf_counter()
+    done, todo = plan(files, stages, cache, args.fresh)
+    print(f"validate: {len(files)} scenes, {len(done)} stage results cached, {len(todo)} to run", file=sys.stderr)
+    try:
+        done.update(execute(todo, cache, args.jobs, args.scheduler, progress=not args.no_progress))
+    except KeyboardInterrupt:
+        print("validate: interrupted; finished stages are cached, rerun to resume", file=sys.stderr)
+        return 130
+    from . import render, table
+
+    df = table.results_table(files, done, with_dem=not args.no_dem)
     out = Path(args.out)
-    rows = []
-    for path in catalog_files():
-        t0 = time.perf_counter()
-        try:
-            info = scene_info(load_scene(path))
-            info["status"] = "ok"
-        except SceneError as exc:
-            info = {"name": path.stem, "status": f"rejected: {exc}"}
-        info["time_s"] = time.perf_counter() - t0
-        rows.append(info)
-        print(f"{path.stem}: {info['status']}", flush=True)
-    jsonio.write_json(out / "results.json", rows)
-    lines = ["# Catalog", "", "| scene | dim | blocks | interfaces | status |", "| --- | --- | --- | --- | --- |"]
-    lines += [f"| {r['name']} | {r.get('dim', '')} | {r.get('n_blocks', '')} | {r.get('n_interfaces', '')} | {r['status']} |"
-              for r in rows]
-    (out / "index.md").write_text("\n".join(lines) + "\n")
-    print(f"report: {out / 'index.md'}")
-    return 0 if all(r["status"] == "ok" for r in rows) else 1
+    out.mkdir(parents=True, exist_ok=True)
+    table.write(df, out)
+    render.report(df, files, done, out, wall_time=time.perf_counter() - t0)
+    failed = df[(df.lp_status == "failed") | (df.nlp_status == "failed") | (df.dem_status == "failed")]
+    print(f"validate: report {out / 'index.html'} ({len(df)} scenes, {len(failed)} with a failed stage, "
+          f"{time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    return 0
 
 
 if __name__ == "__main__":

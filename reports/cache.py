@@ -1,0 +1,65 @@
+"""Results cached by scene content and code version, written atomically.
+
+A stage result (``la``: limit analysis, ``dem``: DEM pushover) of a scene is
+stored as ``<root>/<stage>/<scene name>-<key>.json`` where the key hashes the
+scene file's canonical JSON, the stage options and the fingerprint of the code
+the stage runs (every source file of the packages involved and the pinned
+versions in pyproject.toml). An unchanged scene is not recomputed; an
+interrupted run resumes from what is stored; a half-written file is never
+seen (write to a temporary file, then rename).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+from functools import lru_cache
+from pathlib import Path
+
+from limit import jsonio
+
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_DIR = ROOT / ".cache" / "results"
+#: packages whose source decides each stage's result
+STAGE_CODE = {"la": ("limit",), "dem": ("limit", "dem_validation")}
+
+
+@lru_cache(maxsize=None)
+def code_fingerprint(stage: str) -> str:
+    h = hashlib.sha256()
+    for pkg in STAGE_CODE[stage]:
+        for p in sorted((ROOT / pkg).rglob("*")):
+            if p.suffix in (".py", ".json") and "__pycache__" not in p.parts:
+                h.update(str(p.relative_to(ROOT)).encode())
+                h.update(p.read_bytes())
+    pyproject = ROOT / "pyproject.toml"
+    if pyproject.exists():
+        h.update(pyproject.read_bytes())
+    return h.hexdigest()
+
+
+def key(stage: str, scene_data: dict, options: dict) -> str:
+    payload = json.dumps({"stage": stage, "scene": scene_data, "options": options}, sort_keys=True,
+                         separators=(",", ":"), default=str)
+    h = hashlib.sha256(payload.encode())
+    h.update(code_fingerprint(stage).encode())
+    return h.hexdigest()[:20]
+
+
+class Cache:
+    def __init__(self, root: Path | str = DEFAULT_DIR):
+        self.root = Path(root)
+
+    def path(self, stage: str, name: str, k: str) -> Path:
+        return self.root / stage / f"{name}-{k}.json"
+
+    def get(self, stage: str, name: str, k: str) -> dict | None:
+        p = self.path(stage, name, k)
+        try:
+            return json.loads(p.read_text())
+        except (FileNotFoundError, json.JSONDecodeError):
+            return None
+
+    def put(self, stage: str, name: str, k: str, result: dict) -> Path:
+        p = self.path(stage, name, k)
+        jsonio.write_json(p, result)
+        return p

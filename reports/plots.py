@@ -1,0 +1,208 @@
+"""Figures of the report (matplotlib, Agg backend).
+
+* :func:`mechanism_figure`: the collapse mechanisms of one scene side by side
+  (associative LP, frictional NLP, DEM motion) drawn like the paper's figures:
+  blocks in the displaced position, the motion amplified so the largest vertex
+  displacement is AMPLIFY of the scene size, the original outlines dashed,
+  supports dark; 2D joints that slide in red, joints that rock or open in blue.
+  3D scenes as axonometric views.
+* :func:`alpha_chart`: alpha per scene and method beside the reference.
+* :func:`time_error`: run time against error per method.
+"""
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+
+AMPLIFY = 0.08
+COLORS = {"lp": "#4c72b0", "nlp": "#dd8452", "dem": "#55a868", "ref": "black", "global": "#8172b3"}
+LABELS = {"lp": "LP (associative)", "nlp": "NLP (frictional)", "dem": "DEM (YADE)"}
+
+
+def _moved(scene, per_block: dict, scale: float):
+    """{block index: displaced vertices} for the free blocks (rigid motion x scale)."""
+    out = {}
+    for i in scene.free:
+        b = scene.blocks[i]
+        m = per_block.get(b.id)
+        if m is None:
+            continue
+        m = np.asarray(m, dtype=float) * scale
+        r = b.poly.vertices - b.centroid
+        if scene.dim == 2:
+            v = b.poly.vertices + m[:2] + m[2] * np.column_stack([-r[:, 1], r[:, 0]])
+        else:
+            v = b.poly.vertices + m[:3] + np.cross(m[3:6], r)
+        out[i] = v
+    return out
+
+
+def _scale(scene, per_block: dict) -> float:
+    """Factor bringing the largest vertex motion to AMPLIFY x the size of the free part."""
+    free = [scene.blocks[i] for i in scene.free]
+    if not free or not per_block:
+        return 0.0
+    pts = np.vstack([b.poly.vertices for b in free])
+    size = float(np.linalg.norm(np.ptp(pts, axis=0)))
+    moved = _moved(scene, per_block, 1.0)
+    disp = max((np.abs(moved[i] - scene.blocks[i].poly.vertices).max() for i in moved), default=0.0)
+    return AMPLIFY * size / disp if disp > 0 else 0.0
+
+
+def _panels(la: dict, dem: dict | None):
+    out = []
+    lp, nlp = la.get("lp") or {}, la.get("nlp") or {}
+    if lp.get("mechanism"):
+        out.append(("lp", lp["mechanism"], lp.get("alpha"), lp.get("interfaces")))
+    if nlp.get("status") == "optimal" and nlp.get("mechanism"):
+        out.append(("nlp", nlp["mechanism"], nlp.get("alpha"), nlp.get("interfaces")))
+    if dem and dem.get("displacement"):
+        out.append(("dem", dem["displacement"], dem.get("alpha"), None))
+    return out
+
+
+def mechanism_figure(scene, la: dict, dem: dict | None, path) -> bool:
+    """Write the mechanism figure of one scene; False if there is no mechanism to draw."""
+    panels = _panels(la, dem)
+    if not panels:
+        return False
+    I = None
+    if scene.dim == 2:
+        from limit.interfaces import find_interfaces
+
+        I = find_interfaces(scene)
+    n = len(panels)
+    if scene.dim == 2:
+        fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 4.4), squeeze=False)
+    else:
+        fig = plt.figure(figsize=(5.2 * n, 4.8))
+        axes = np.array([[fig.add_subplot(1, n, k + 1, projection="3d") for k in range(n)]])
+    for ax, (kind, mech, alpha, ifaces) in zip(axes[0], panels):
+        scale = _scale(scene, mech)
+        moved = _moved(scene, mech, scale)
+        title = f"{LABELS[kind]}: alpha = {alpha:.4g}" if alpha is not None else LABELS[kind]
+        if scene.dim == 2:
+            _draw2d(ax, scene, moved, COLORS[kind], I, ifaces)
+        else:
+            _draw3d(ax, scene, moved, COLORS[kind])
+        ax.set_title(title, fontsize=10)
+    fig.suptitle(f"{scene.name}: collapse mechanisms (motion amplified)", fontsize=11)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return True
+
+
+def _draw2d(ax, scene, moved, color, I, ifaces):
+    fixed = [b.poly.vertices for b in scene.blocks if b.fixed]
+    orig = [scene.blocks[i].poly.vertices for i in scene.free]
+    ax.add_collection(PolyCollection(fixed, facecolors="#555555", edgecolors="#333333", linewidths=0.6))
+    ax.add_collection(PolyCollection(orig, facecolors="none", edgecolors="#999999", linewidths=0.5,
+                                     linestyles="dashed"))
+    ax.add_collection(PolyCollection(list(moved.values()), facecolors=color, alpha=0.35, edgecolors=color,
+                                     linewidths=0.8))
+    if I is not None and ifaces:
+        segs = {k: [I.polygons[j] for j in ifaces.get(k, []) if j < len(I)] for k in ("slide", "rock", "open")}
+        if segs["rock"] or segs["open"]:
+            ax.add_collection(LineCollection(segs["rock"] + segs["open"], colors="#1f4e9c", linewidths=2.0,
+                                             label="rocks / opens"))
+        if segs["slide"]:
+            ax.add_collection(LineCollection(segs["slide"], colors="#c0392b", linewidths=2.6, label="slides"))
+        ax.legend(loc="upper right", fontsize=7, framealpha=0.8)
+    pts = np.vstack([b.poly.vertices for b in scene.blocks] + list(moved.values()))
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.03 * (hi - lo).max()
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    ax.tick_params(labelsize=7)
+
+
+def _draw3d(ax, scene, moved, color):
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    def faces(poly, verts):
+        # face polygons re-mapped onto the displaced vertices (nearest original vertex)
+        out = []
+        for f in poly.faces:
+            idx = [int(np.argmin(np.linalg.norm(poly.vertices - p, axis=1))) for p in f]
+            out.append(verts[idx])
+        return out
+
+    fixed_faces, moved_faces = [], []
+    for b in scene.blocks:
+        if b.fixed:
+            fixed_faces += faces(b.poly, b.poly.vertices)
+        elif b.index in moved:
+            moved_faces += faces(b.poly, moved[b.index])
+    # Supports as light wireframes (opaque faces of a large base would hide the blocks).
+    ax.add_collection3d(Poly3DCollection(fixed_faces, facecolors=(0.5, 0.5, 0.5, 0.08), edgecolors="#777777",
+                                         linewidths=0.4))
+    ax.add_collection3d(Poly3DCollection(moved_faces, facecolors=color, edgecolors="#222222", linewidths=0.3,
+                                         alpha=0.75))
+    pts = np.vstack([scene.blocks[i].poly.vertices for i in scene.free] + list(moved.values()))
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.08 * (hi - lo).max()
+    lo, hi = lo - pad, hi + pad
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_zlim(lo[2], hi[2])
+    ax.set_box_aspect(tuple(np.maximum(hi - lo, 1e-9 * (hi - lo).max())))
+    ax.view_init(elev=22, azim=-58)
+    ax.set_xlabel("x", fontsize=7)
+    ax.set_ylabel("y", fontsize=7)
+    ax.set_zlabel("z", fontsize=7)
+    ax.tick_params(labelsize=6)
+
+
+def alpha_chart(df, path) -> None:
+    """alpha per scene: LP, frictional (NLP / MILP), DEM, and the reference."""
+    d = df.iloc[::-1].reset_index(drop=True)
+    fig, ax = plt.subplots(figsize=(8.5, 0.32 * len(d) + 1.6))
+    y = np.arange(len(d))
+    for col, kind, marker, dy in (("lp_alpha", "lp", "o", -0.18), ("fric_alpha", "nlp", "s", -0.06),
+                                  ("dem_alpha", "dem", "^", 0.06), ("ref_alpha", "ref", "*", 0.18)):
+        vals = d[col].astype(float)
+        lab = {"lp_alpha": "LP", "fric_alpha": "frictional (NLP / MILP)", "dem_alpha": "DEM",
+               "ref_alpha": "reference"}[col]
+        ax.scatter(vals, y + dy, marker=marker, color=COLORS[kind], s=40 if kind != "ref" else 80, label=lab,
+                   zorder=3)
+    bad = d[(d.lp_status == "failed") | (d.nlp_status == "failed") | (d.dem_status == "failed")]
+    for k in bad.index:
+        ax.axhspan(k - 0.45, k + 0.45, color="#f8d7da", zorder=0)
+    ax.set_yticks(y)
+    ax.set_yticklabels(d.name, fontsize=8)
+    ax.set_xlabel("collapse load factor alpha")
+    ax.set_xscale("log")
+    ax.grid(True, axis="x", which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.set_title("alpha per scene (failed stages shaded red)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def time_error(df, path) -> None:
+    """Run time against the error from the reference, per method (log-log)."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.6))
+    for col_t, col_e, kind, lab in (("lp_time_s", "lp_err", "lp", "LP"), ("nlp_time_s", "nlp_err", "nlp", "NLP"),
+                                    ("dem_time_s", "dem_err", "dem", "DEM")):
+        t = df[col_t].astype(float)
+        e = df[col_e].astype(float).abs()
+        ok = np.isfinite(t) & np.isfinite(e) & (t > 0)
+        ax.scatter(t[ok], np.maximum(e[ok], 1e-10), color=COLORS[kind], label=f"{lab} ({int(ok.sum())} scenes)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.axhline(1e-10, color="#bbbbbb", lw=0.8, ls=":")
+    ax.set_xlabel("run time (s)")
+    ax.set_ylabel("|alpha - reference| / reference (floor 1e-10)")
+    ax.set_title("run time against error (scenes with a reference)", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)

@@ -1,0 +1,220 @@
+"""The comparison report: ``index.html`` and its Markdown twin ``index.md``.
+
+Per scene: alpha from the LP, the NLP (and the MILP / iterative LP where run),
+the DEM and the reference with its source, relative errors, run times, the
+similarity of the limit-analysis mechanism and the DEM motion, a paragraph
+saying where the methods agree and why they differ, and the mechanism figure.
+A failed stage is shown as failed, in red, never dropped.
+"""
+from __future__ import annotations
+
+import datetime as _dt
+import html
+import json
+import math
+from pathlib import Path
+
+from . import plots
+
+FAIL = {"failed"}
+
+
+def _num(v, fmt=".4g"):
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    return format(v, fmt)
+
+
+def _pct(v):
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    return f"{100 * v:+.2f} %"
+
+
+def explain(r) -> list[str]:
+    """Sentences comparing the methods for one results row."""
+    s = []
+    if r.get("ref_alpha") is not None and _finite(r.get("ref_alpha")):
+        s.append(f"Reference {r['ref_kind']} = {r['ref_alpha']:.6g} ({r['ref_source']}).")
+    if r["lp_status"] in FAIL:
+        s.append(f"The LP failed: {r['lp_reason']}")
+    elif r["lp_status"] != "optimal":
+        s.append(f"LP status {r['lp_status']}: {r['lp_reason']}")
+    if r["nlp_status"] == "skipped":
+        s.append(f"The NLP was not needed: {r['nlp_reason']}.")
+    elif r["nlp_status"] == "optimal" and _finite(r["lp_alpha"]) and _finite(r["fric_alpha"]):
+        gap = (r["lp_alpha"] - r["fric_alpha"]) / r["fric_alpha"]
+        if gap > 1e-5:
+            s.append(f"The associative LP is {100 * gap:.1f} % above the frictional value: its mechanism can "
+                     "only slide with dilatancy (joints open as they slide), while the frictional mechanism "
+                     "slides without opening, or opens joints that then slide at no normal force.")
+        else:
+            s.append("The frictional NLP ends at the LP value: friction does not lower this collapse.")
+    elif r["nlp_status"] in FAIL:
+        s.append(f"The NLP failed its checks: {r['nlp_reason']}")
+    if r.get("global_status") == "optimal" and _finite(r.get("global_alpha")):
+        at = _finite(r.get("nlp_alpha")) and abs(r["nlp_alpha"] - r["global_alpha"]) <= 1e-6 * max(1, r["global_alpha"])
+        s.append(f"The mixed-integer LP proves the global frictional minimum {r['global_alpha']:.6g}; "
+                 + ("the NLP reached it." if at else "the NLP stopped above it (a local solution)."))
+    elif r.get("global_status") == "time_limit":
+        s.append("The mixed-integer LP did not prove its optimum within its time limit"
+                 + (f" (best found {r['global_alpha']:.6g})." if _finite(r.get("global_alpha")) else "."))
+    if _finite(r.get("iter_alpha")):
+        s.append(f"The iterative LP of Gilbert et al. (2006) gives {r['iter_alpha']:.6g} ({r['iter_status']}).")
+    ds = r.get("dem_status")
+    if ds == "collapsed" and _finite(r.get("dem_alpha")):
+        d = r.get("dem_vs_la")
+        txt = f"The DEM collapses at {r['dem_alpha']:.4g}"
+        if _finite(r.get("dem_uncertainty")):
+            txt += f" (+/- {r['dem_uncertainty']:.2g})"
+        if _finite(d):
+            txt += f", {100 * d:+.1f} % from the frictional limit analysis"
+        s.append(txt + ".")
+        if _finite(d) and abs(d) > 0.05:
+            s.append("The DEM follows one loading path from an elastic, settled start with penalty contacts "
+                     "(extrapolated to rigid); limit analysis gives the lowest collapse over every admissible "
+                     "stress state. Where joints open while they slide, the DEM may find a collapse other than "
+                     "the minimal one, or the extrapolation may not be in its asymptotic range.")
+        if _finite(r.get("mech_similarity")):
+            s.append(f"Mechanism similarity (cosine of the vertex motions, LA {r['mech_kind'].upper()} vs DEM): "
+                     f"{r['mech_similarity']:.2f}.")
+    elif ds == "skipped":
+        s.append(f"No DEM run: {r['dem_reason']}")
+    elif ds in FAIL:
+        s.append(f"The DEM failed: {r['dem_reason']}")
+    elif ds == "stable":
+        s.append(f"The DEM did not collapse: {r['dem_reason']}")
+    return s
+
+
+def _finite(v) -> bool:
+    return v is not None and isinstance(v, (int, float)) and math.isfinite(v)
+
+
+CSS = """
+body { font-family: -apple-system, Segoe UI, Helvetica, Arial, sans-serif; margin: 24px auto; max-width: 1200px;
+       color: #222; line-height: 1.45; }
+table { border-collapse: collapse; font-size: 13px; margin: 8px 0 16px; }
+th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: right; }
+th { background: #f0f0f0; } td.name { text-align: left; }
+td.failed, span.failed { background: #f8d7da; color: #8b0000; font-weight: bold; }
+td.ok { background: #e6f4ea; } td.warn { background: #fff3cd; }
+section { border-top: 2px solid #ddd; margin-top: 24px; padding-top: 8px; }
+img { max-width: 100%; border: 1px solid #eee; }
+.meta { color: #666; font-size: 12px; }
+"""
+
+
+def _cls(status):
+    return "failed" if status in FAIL else ""
+
+
+def report(df, files, results: dict, out: Path, wall_time: float | None = None) -> None:
+    from limit.scene import load_scene
+
+    out = Path(out)
+    figs = out / "figures"
+    figs.mkdir(parents=True, exist_ok=True)
+    plots.alpha_chart(df, figs / "alpha.png")
+    plots.time_error(df, figs / "time_error.png")
+    by_name = {json.loads(Path(p).read_text()).get("name", Path(p).stem): Path(p) for p in files}
+    from .vtk import motions_of, write_vtk
+
+    mech_png = {}
+    for name, path in by_name.items():
+        la, dem = results.get((name, "la")), results.get((name, "dem"))
+        if not la:
+            continue
+        try:
+            scene = load_scene(path)
+            write_vtk(scene, motions_of({**la, "dem": dem or {}}), out / "vtk" / f"{name}.vtk")
+            if plots.mechanism_figure(scene, la, dem, figs / f"{name}.png"):
+                mech_png[name] = f"figures/{name}.png"
+        except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is noted, not fatal
+            mech_png[name] = None
+            print(f"report: no figure for {name}: {exc}")
+    stamp = _dt.datetime.now().strftime("%Y-%m-%d %H:%M")
+    (out / "index.html").write_text(_html(df, mech_png, stamp, wall_time))
+    (out / "index.md").write_text(_markdown(df, mech_png, stamp, wall_time))
+
+
+HEAD = ["scene", "dim", "blocks", "joints", "reference", "LP", "NLP", "MILP", "DEM", "LP err", "NLP err",
+        "DEM vs LA", "LP s", "NLP s", "DEM s", "similarity"]
+
+
+def _cells(r):
+    def st(alpha, status):
+        if status in FAIL:
+            return "failed"
+        if status == "skipped" and alpha is None:
+            return "skipped"
+        return _num(alpha)
+
+    return [r["name"], str(r["dim"]), _num(r["n_blocks"], "d") if _finite(r["n_blocks"]) else "–",
+            _num(r["n_interfaces"], "d") if _finite(r["n_interfaces"]) else "–", _num(r["ref_alpha"]),
+            st(r["lp_alpha"], r["lp_status"]), st(r["nlp_alpha"], r["nlp_status"]),
+            st(r["global_alpha"], r["global_status"]), st(r["dem_alpha"], r["dem_status"]),
+            _pct(r["lp_err"]), _pct(r["nlp_err"]), _pct(r["dem_vs_la"]), _num(r["lp_time_s"], ".2f"),
+            _num(r["nlp_time_s"], ".2f"), _num(r["dem_time_s"], ".0f"), _num(r["mech_similarity"], ".2f")]
+
+
+def _html(df, mech_png, stamp, wall_time):
+    e = html.escape
+    h = [f"<!doctype html><html><head><meta charset='utf-8'><title>Masonry collapse: validation report</title>"
+         f"<style>{CSS}</style></head><body>",
+         "<h1>Collapse of block masonry: limit analysis against DEM</h1>",
+         f"<p class='meta'>{stamp}; {len(df)} scenes" + (f"; run time {wall_time:.0f} s" if wall_time else "")
+         + ". LP: associative limit analysis (step 1); NLP: frictional, non-associative (step 2); MILP: global "
+         "frictional minimum (small scenes); DEM: YADE pushover extrapolated to rigid contacts. Errors are "
+         "relative to the reference; 'DEM vs LA' relative to the frictional limit analysis. Blocks and "
+         "mechanisms for ParaView: <code>vtk/&lt;scene&gt;.vtk</code>; the table: <code>results.csv</code>, "
+         "<code>results.parquet</code>.</p>",
+         "<table><tr>" + "".join(f"<th>{c}</th>" for c in HEAD) + "</tr>"]
+    status_cols = {5: "lp_status", 6: "nlp_status", 7: "global_status", 8: "dem_status"}
+    for _, r in df.iterrows():
+        cells = _cells(r)
+        row = []
+        for k, c in enumerate(cells):
+            cls = "name" if k == 0 else _cls(r[status_cols[k]]) if k in status_cols else ""
+            if k == 0:
+                c = f"<a href='#{e(c)}'>{e(c)}</a>"
+            else:
+                c = e(c)
+            row.append(f"<td class='{cls}'>{c}</td>")
+        h.append("<tr>" + "".join(row) + "</tr>")
+    h.append("</table>")
+    h.append("<h2>Overview</h2><img src='figures/alpha.png' alt='alpha per scene'>"
+             "<img src='figures/time_error.png' alt='run time against error'>")
+    for _, r in df.iterrows():
+        h.append(f"<section id='{e(r['name'])}'><h2>{e(r['name'])}</h2>")
+        if r["title"] or r["figure"]:
+            h.append(f"<p class='meta'>{e(str(r['title']))} {e(str(r['figure']))}</p>")
+        h.append("<ul>" + "".join(f"<li>{e(s)}</li>" for s in explain(r)) + "</ul>")
+        png = mech_png.get(r["name"])
+        if png:
+            h.append(f"<img src='{png}' alt='mechanisms of {e(r['name'])}'>")
+        elif r["name"] in mech_png:
+            h.append("<p><span class='failed'>figure could not be drawn</span></p>")
+        h.append("</section>")
+    h.append("</body></html>")
+    return "\n".join(h)
+
+
+def _markdown(df, mech_png, stamp, wall_time):
+    lines = ["# Collapse of block masonry: limit analysis against DEM", "",
+             f"{stamp}; {len(df)} scenes" + (f"; run time {wall_time:.0f} s" if wall_time else "") + ".", "",
+             "| " + " | ".join(HEAD) + " |", "|" + " --- |" * len(HEAD)]
+    for _, r in df.iterrows():
+        cells = _cells(r)
+        cells = [f"**{c}**" if c == "failed" else c for c in cells]
+        lines.append("| " + " | ".join(cells) + " |")
+    lines += ["", "![alpha per scene](figures/alpha.png)", "", "![run time against error](figures/time_error.png)",
+              ""]
+    for _, r in df.iterrows():
+        lines += [f"## {r['name']}", ""]
+        if r["title"] or r["figure"]:
+            lines += [f"_{r['title']} {r['figure']}_", ""]
+        lines += [f"- {s}" for s in explain(r)] + [""]
+        if mech_png.get(r["name"]):
+            lines += [f"![mechanisms]({mech_png[r['name']]})", ""]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,74 @@
+"""The stages the validation run applies to each scene, as plain functions for the workers.
+
+``la``: the limit analysis (LP, then the NLP where the scene needs it, with the
+global MILP and the iterative LP as independent checks on small scenes);
+``dem``: the YADE pushover. A stage never raises: any fault comes back as a
+result with ``status`` "failed" and its reason, so the run goes on.
+
+A scene steers its DEM stage through ``meta.dem``: ``{"run": false, "reason":
+"..."}`` opts out (the reason is shown in the report); ``{"knobs": {...},
+"timeout_s": s}`` passes pushover knobs (:mod:`dem_validation.params`).
+"""
+from __future__ import annotations
+
+import time
+import traceback
+
+#: limits of the independent checks in the validation run (free blocks)
+GLOBAL_MAX_FREE = 12
+ITERATIVE_MAX_FREE = 40
+GLOBAL_TIME_LIMIT = 60.0
+DEM_TIMEOUT = 900.0
+
+
+def la_options(scene_data: dict) -> dict:
+    return {"method": "auto", "global_max_free": GLOBAL_MAX_FREE, "iterative_max_free": ITERATIVE_MAX_FREE,
+            "global_time_limit": GLOBAL_TIME_LIMIT}
+
+
+def dem_options(scene_data: dict) -> dict:
+    spec = dict((scene_data.get("meta") or {}).get("dem") or {})
+    return {"run": spec.get("run", True), "reason": spec.get("reason", ""), "knobs": spec.get("knobs", {}),
+            "timeout_s": spec.get("timeout_s", DEM_TIMEOUT)}
+
+
+def run_la(path: str, options: dict) -> dict:
+    """Limit analysis of the scene file at ``path``: the result file's content (CONTRACT section 3)."""
+    from limit.analysis import analyse, public
+    from limit.errors import SceneError
+    from limit.scene import load_scene
+
+    t0 = time.perf_counter()
+    try:
+        scene = load_scene(path)
+        n_free = len(scene.free)
+        nlp_opts = {"global_check": n_free <= options["global_max_free"],
+                    "iterative": n_free <= options["iterative_max_free"],
+                    "global_time_limit": options["global_time_limit"], "arbitrary": n_free <= options["global_max_free"]}
+        res = public(analyse(scene, method=options["method"], nlp_options=nlp_opts))
+    except SceneError as exc:
+        res = {"lp": {"status": "failed", "alpha": None, "reason": f"rejected scene: {exc}"}}
+    except Exception as exc:  # noqa: BLE001 - reported, never raised
+        res = {"lp": {"status": "failed", "alpha": None,
+                      "reason": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc(limit=5)}}
+    res["stage_time_s"] = time.perf_counter() - t0
+    return res
+
+
+def run_dem(path: str, options: dict) -> dict:
+    """The ``dem`` part for the scene file at ``path`` (or the opt-out record)."""
+    t0 = time.perf_counter()
+    if not options["run"]:
+        return {"status": "skipped", "alpha": None, "reason": options["reason"] or "opted out in meta.dem",
+                "time_s": 0.0}
+    try:
+        from dem_validation import run_scene
+
+        res = run_scene(path, timeout_s=options["timeout_s"], **options["knobs"])
+    except Exception as exc:  # noqa: BLE001 - a fault is a result, never a crash of the run
+        res = {"status": "failed", "alpha": None, "reason": f"{type(exc).__name__}: {exc}"}
+    res.setdefault("time_s", time.perf_counter() - t0)
+    return res
+
+
+STAGES = {"la": (la_options, run_la), "dem": (dem_options, run_dem)}

@@ -1,0 +1,139 @@
+"""The results table: one row per catalog scene, written as CSV and Parquet through pandas.
+
+Columns (alpha values dimensionless, times in seconds):
+
+* scene facts: ``name``, ``title``, ``figure``, ``dim``, ``n_blocks``, ``n_free``, ``n_interfaces``;
+* the reference: ``ref_alpha`` and ``ref_kind`` (which collapse factor it is:
+  ``alpha`` frictional, ``alpha_lp`` associative, ``alpha_nlp``), ``ref_rtol``, ``ref_source``;
+* per method: ``lp_*``, ``nlp_*``, ``global_*`` (MILP), ``iter_*`` (iterative LP),
+  ``dem_*``: ``status``, ``alpha``, ``time_s``, ``reason``;
+* ``fric_alpha``: the lowest verified frictional value found (NLP or MILP);
+* errors relative to the reference: ``lp_err``, ``nlp_err``, ``dem_err``, and
+  ``dem_vs_la`` (DEM against the frictional limit analysis);
+* ``mech_similarity``: the cosine between the limit-analysis mechanism and the
+  DEM motion, compared through the velocities of every block vertex
+  (scale-free: 1 = the same motion, 0 = unrelated).
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+
+def vertex_motion(scene, per_block: dict) -> np.ndarray:
+    """Velocities of all free-block vertices (flattened) of a per-block rigid motion."""
+    d = scene.dim
+    out = []
+    for i in scene.free:
+        b = scene.blocks[i]
+        m = per_block.get(b.id)
+        if m is None:
+            return None
+        m = np.asarray(m, dtype=float)
+        r = b.poly.vertices - b.centroid
+        if d == 2:
+            v = m[:2] + m[2] * np.column_stack([-r[:, 1], r[:, 0]])
+        else:
+            v = m[:3] + np.cross(m[3:6], r)
+        out.append(v.ravel())
+    return np.concatenate(out) if out else None
+
+
+def similarity(scene, a: dict | None, b: dict | None) -> float:
+    """Cosine between two rigid-block motions (nan when one is missing or zero)."""
+    if not a or not b:
+        return float("nan")
+    va, vb = vertex_motion(scene, a), vertex_motion(scene, b)
+    if va is None or vb is None:
+        return float("nan")
+    na, nb = np.linalg.norm(va), np.linalg.norm(vb)
+    if na == 0 or nb == 0 or not np.isfinite(na * nb):
+        return float("nan")
+    return float(va @ vb / (na * nb))
+
+
+def _rel(a, ref):
+    if a is None or ref is None or not np.isfinite(ref) or ref == 0:
+        return float("nan")
+    return (a - ref) / abs(ref)
+
+
+def la_mechanism(la: dict):
+    nlp = la.get("nlp") or {}
+    if nlp.get("status") == "optimal" and nlp.get("mechanism"):
+        return nlp["mechanism"], "nlp"
+    lp = la.get("lp") or {}
+    return lp.get("mechanism"), "lp"
+
+
+def row(path: Path, la: dict | None, dem: dict | None) -> dict:
+    from limit.scene import load_scene
+
+    data = json.loads(Path(path).read_text())
+    meta = data.get("meta") or {}
+    exp = data.get("expected") or {}
+    la = la or {}
+    lp = la.get("lp") or {}
+    nlp = la.get("nlp") or {}
+    g = nlp.get("global") or {}
+    it = nlp.get("iterative_lp") or {}
+    r = {"name": data.get("name", path.stem), "title": meta.get("title", ""), "figure": meta.get("figure", ""),
+         "dim": data.get("dim"), "n_blocks": la.get("n_blocks"), "n_free": la.get("n_free_blocks"),
+         "n_interfaces": la.get("n_interfaces")}
+    ref_kind = next((k for k in ("alpha", "alpha_nlp", "alpha_lp") if exp.get(k) is not None), None)
+    r.update(ref_alpha=exp.get(ref_kind) if ref_kind else None, ref_kind=ref_kind, ref_rtol=exp.get("rtol"),
+             ref_source=exp.get("source", ""))
+    r.update(lp_status=lp.get("status"), lp_alpha=lp.get("alpha"), lp_time_s=lp.get("time_s"),
+             lp_reason=lp.get("reason", ""))
+    r.update(nlp_status=nlp.get("status"), nlp_alpha=nlp.get("alpha"), nlp_time_s=nlp.get("time_s"),
+             nlp_reason=nlp.get("reason", ""), nlp_arbitrary_alpha=nlp.get("alpha_arbitrary_start"))
+    r.update(global_status=g.get("status"), global_alpha=g.get("alpha"), global_time_s=g.get("time_s"),
+             iter_status=it.get("status"), iter_alpha=it.get("alpha"))
+    fric = [a for a in (nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None,
+                        g.get("alpha") if g.get("status") in ("optimal", "time_limit") else None) if a is not None]
+    r["fric_alpha"] = min(fric) if fric else None
+    dem = dem or {}
+    r.update(dem_status=dem.get("status"), dem_alpha=dem.get("alpha"), dem_time_s=dem.get("time_s"),
+             dem_reason=dem.get("reason", dem.get("note", "")), dem_uncertainty=dem.get("alpha_uncertainty"))
+    # The LP is compared with alpha_lp, or with the frictional alpha where the NLP found the LP
+    # mechanism frictional already (skipped).
+    lp_ref = exp.get("alpha_lp")
+    if lp_ref is None and nlp.get("status") == "skipped":
+        lp_ref = exp.get("alpha")
+    r["lp_err"] = _rel(r["lp_alpha"], lp_ref)
+    fric_ref = exp.get("alpha_nlp", exp.get("alpha"))
+    r["nlp_err"] = _rel(r["fric_alpha"], fric_ref)
+    r["dem_err"] = _rel(r["dem_alpha"], exp.get("alpha"))
+    r["dem_vs_la"] = _rel(r["dem_alpha"], r["fric_alpha"])
+    r["within_ref"] = (abs(r["nlp_err"]) <= (r["ref_rtol"] or 0) + 1e-12) if np.isfinite(r["nlp_err"]) else None
+    mech, kind = la_mechanism(la)
+    r["mech_kind"] = kind
+    try:
+        scene = load_scene(data)
+        r["mech_similarity"] = similarity(scene, mech, dem.get("displacement"))
+    except Exception:  # noqa: BLE001 - a rejected scene has no mechanism to compare
+        r["mech_similarity"] = float("nan")
+    return r
+
+
+def results_table(files, results: dict, with_dem: bool = True) -> pd.DataFrame:
+    rows = []
+    for path in files:
+        name = json.loads(Path(path).read_text()).get("name", Path(path).stem)
+        rows.append(row(Path(path), results.get((name, "la")), results.get((name, "dem")) if with_dem else None))
+    return pd.DataFrame(rows)
+
+
+def write(df: pd.DataFrame, out: Path) -> None:
+    """results.csv and results.parquet in ``out`` (each written atomically)."""
+    import os
+    import tempfile
+
+    for suffix, fn in ((".csv", lambda p: df.to_csv(p, index=False)), (".parquet", lambda p: df.to_parquet(p))):
+        fd, tmp = tempfile.mkstemp(dir=out, suffix=suffix)
+        os.close(fd)
+        fn(tmp)
+        os.replace(tmp, out / f"results{suffix}")
