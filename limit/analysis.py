@@ -63,9 +63,13 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
         sol.status = "infeasible"
         sol.reason = f"collapses under the dead load alone (the live load would have to act backwards, alpha = {sol.alpha:.6g})"
     if sol.status == "optimal" and check_kinematic:
-        kin = lpmod.kinematic_lp(P, sol.solver)
+        for name in [sol.solver] + [c for c in chain if c != sol.solver]:
+            kin = lpmod.kinematic_lp(P, name)
+            if kin.status == "optimal":
+                break
         residuals["alpha_kinematic_lp"] = kin.alpha
         residuals["kinematic_lp_status"] = kin.status
+        residuals["kinematic_lp_solver"] = kin.solver
     return sol, attempts, residuals
 
 

@@ -179,7 +179,7 @@ def check(N: NLPProblem, z: np.ndarray, alpha_lp: float | None) -> tuple[bool, d
     lamh, s = z[N.sl], N.slack(z)
     r["complementarity"] = float(np.sum(np.abs(lamh * s))) / max(1.0, abs(alpha))
     r["alpha_above_lp"] = max(0.0, alpha - alpha_lp) / max(1.0, abs(alpha_lp)) if alpha_lp is not None else 0.0
-    limits = {"equilibrium": verify.TOL_EQ, "yield": verify.TOL_YIELD, "compatibility": verify.TOL_KIN,
+    limits = {"equilibrium": verify.TOL_EQ, "block_equilibrium": verify.TOL_EQ, "yield": verify.TOL_YIELD, "compatibility": verify.TOL_KIN,
               "multipliers": verify.TOL_KIN, "normalisation": verify.TOL_KIN, "complementarity": 1e-6,
               "alpha_above_lp": 1e-6}
     bad = [f"{k} residual {r[k]:.2e} > {lim:.0e}" for k, lim in limits.items() if not (r[k] <= lim)]

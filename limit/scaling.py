@@ -10,7 +10,7 @@ load it carries (its own dead and live forces plus what rests on it) to the
 interfaces it rests on, in proportion to their area times the cosine between
 their normal and the vertical, and through them to the blocks below. Joints
 that carry little vertically (head joints) get a floor of a quarter of the
-load their heavier neighbour carries.
+load the lighter of their two blocks carries.
 """
 from __future__ import annotations
 
@@ -63,8 +63,12 @@ def normal_force_estimate(scene, I, f0, fL) -> np.ndarray:
             if not fixed[j]:
                 carried[j] += share
     # Joints that carry little vertically still see the horizontal actions of the blocks they
-    # separate, which scale with what those blocks carry.
-    floor = 0.25 * np.maximum(np.where(fixed[I.a], 0.0, carried[I.a]), np.where(fixed[I.b], 0.0, carried[I.b]))
+    # separate, which scale with what those blocks carry: the lighter of the two (a pebble
+    # beside a wall must not be scaled like the wall).
+    ca = np.where(fixed[I.a], np.inf, carried[I.a])
+    cb = np.where(fixed[I.b], np.inf, carried[I.b])
+    floor = 0.25 * np.minimum(ca, cb)
+    floor = np.where(np.isfinite(floor), floor, 0.0)
     est = np.maximum(est, floor)
     tiny = 1e-12 * max(float(load.max()), 1e-300)
     return np.maximum(est, tiny)

@@ -1,0 +1,139 @@
+"""Property tests (hypothesis) of the limit analysis on randomly generated valid scenes.
+
+Scenes: running-bond walls (2D and 3D), stacks, arches and "pebble" scenes (a
+tiny block beside or on a large one, or a contact of tiny area), in units from
+millimetres to kilometres, with mu from 0.01 to 100, moved by random rigid
+motions. Checked: alpha invariant to rigid motion, scale and block order to
+1e-6 (LP); alpha non-decreasing in mu (associative LP); static = kinematic LP;
+NLP <= LP; and no status misread (every "optimal" answer re-verified here).
+Examples per property: see EXAMPLES (derandomised: the same scenes every run).
+"""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from limit import lp as lpmod
+from limit import nlp, verify
+from limit.analysis import solve_lp
+from limit.assemble import assemble
+from limit.scene import load_scene
+from scenes import builders as B
+from scenes.transform import random_rotation, reorder, transform
+
+EXAMPLES = 60
+SETTINGS = settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
+                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+
+mus = st.floats(min_value=math.log10(0.01), max_value=math.log10(100.0)).map(lambda e: 10.0 ** e)
+units = st.sampled_from([1e-3, 1.0, 1e3])
+
+
+@st.composite
+def scenes(draw):
+    """A valid scene dict with a horizontal live load."""
+    kind = draw(st.sampled_from(["wall2", "wall3", "stack2", "stack3", "arch2", "pebble2", "pebble3", "sliver3"]))
+    mu = draw(mus)
+    if kind in ("wall2", "wall3"):
+        d = B.running_bond_wall(draw(st.integers(1, 4)), draw(st.integers(1, 4)), dim=2 if kind == "wall2" else 3,
+                                L=draw(st.floats(0.2, 0.6)), H=draw(st.floats(0.1, 0.5)), mu=mu)
+    elif kind in ("stack2", "stack3"):
+        d = B.stack(draw(st.integers(1, 4)), dim=2 if kind == "stack2" else 3, b=draw(st.floats(0.1, 0.6)),
+                    h=draw(st.floats(0.1, 0.8)), mu=mu)
+    elif kind == "arch2":
+        d = B.arch(draw(st.integers(3, 15)), R=1.0, t=draw(st.floats(0.12, 0.4)),
+                   span_deg=draw(st.sampled_from([180.0, 150.0, 120.0])), dim=2, mu=mu)
+    elif kind in ("pebble2", "pebble3"):
+        # a block 1000 times smaller than its neighbour, resting on the base beside it and on top of it
+        dim = 2 if kind == "pebble2" else 3
+        d = B.single_block(dim=dim, b=0.8, h=0.6, t=0.8, mu=mu)
+        p = 1e-3 * draw(st.floats(0.5, 2.0))
+        c_side = [0.8 + p / 2, p / 2] if dim == 2 else [0.8 + p / 2, 0.4, p / 2]
+        c_top = [0.4, 0.6 + p / 2] if dim == 2 else [0.4, 0.4, 0.6 + p / 2]
+        d["blocks"] += [{"id": "pebble", "box": {"center": c_side, "size": [p] * dim}},
+                        {"id": "pebble-top", "box": {"center": c_top, "size": [p] * dim}}]
+    else:
+        # a block overhanging its support so that the contact is a sliver (1e-3 of the block)
+        d = B.stack(2, dim=3, b=0.5, h=0.4, mu=mu)
+        shift = 0.5 * (1 - 1e-3 * draw(st.floats(0.5, 2.0)))
+        d["blocks"][2]["box"]["center"][0] += shift
+        d["blocks"][0]["box"]["size"][0] = 3.0
+    return d
+
+
+def alpha_lp(d, solver="clarabel"):
+    P = assemble(load_scene(d))
+    sol, _, res = solve_lp(P, solver)
+    return sol, P, res
+
+
+def reverify(P, sol):
+    """Every 'optimal' status is re-checked here, independently of the code path that produced it."""
+    if sol.status == "optimal":
+        ok, _, why = verify.check_lp(P, sol)
+        assert ok, why
+        assert sol.alpha >= -verify.TOL_GAP
+
+
+@SETTINGS
+@given(scenes(), st.integers(0, 2**31 - 1), units)
+def test_alpha_invariant_to_rigid_motion_scale_and_order(d, seed, s):
+    sol0, P0, _ = alpha_lp(d)
+    reverify(P0, sol0)
+    rng = np.random.default_rng(seed)
+    moved = reorder(transform(d, R=random_rotation(d["dim"], rng), t=rng.uniform(-1e3, 1e3, d["dim"]) * s, s=s),
+                    seed=seed % 1000)
+    sol1, P1, _ = alpha_lp(moved)
+    reverify(P1, sol1)
+    assert sol1.status == sol0.status
+    if sol0.status == "optimal":
+        assert sol1.alpha == pytest.approx(sol0.alpha, rel=1e-6, abs=1e-9)
+
+
+@SETTINGS
+@given(scenes(), st.floats(1.05, 5.0))
+def test_lp_alpha_non_decreasing_in_mu(d, factor):
+    lo, P_lo, _ = alpha_lp(d)
+    d2 = dict(d, friction=d["friction"] * factor)
+    hi, P_hi, _ = alpha_lp(d2)
+    reverify(P_lo, lo)
+    reverify(P_hi, hi)
+    if lo.status == "optimal" and hi.status == "optimal":
+        assert hi.alpha >= lo.alpha - 1e-7 * max(1.0, abs(lo.alpha))
+    if lo.status == "unbounded":
+        assert hi.status == "unbounded"
+
+
+@SETTINGS
+@given(scenes())
+def test_static_equals_kinematic(d):
+    P = assemble(load_scene(d))
+    sol, _, res = solve_lp(P, check_kinematic=True)
+    reverify(P, sol)
+    if sol.status == "optimal":
+        assert res["kinematic_lp_status"] == "optimal"
+        assert res["alpha_kinematic_lp"] == pytest.approx(sol.alpha, rel=1e-6, abs=1e-9)
+    elif sol.status == "unbounded":
+        kin = lpmod.kinematic_lp(P)
+        assert kin.status == "unbounded"  # no mechanism: the kinematic LP is infeasible
+
+
+@settings(max_examples=EXAMPLES // 2, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(scenes())
+def test_nlp_never_above_lp_and_verified(d):
+    P = assemble(load_scene(d))
+    sol, _, _ = solve_lp(P)
+    reverify(P, sol)
+    if sol.status != "optimal":
+        return
+    part = nlp.step2(P, sol, method="nlp")
+    assert part["status"] in ("optimal", "failed")
+    if part["status"] == "optimal":
+        assert part["alpha"] <= sol.alpha + 1e-6 * max(1.0, sol.alpha)
+        v = part["verification"]
+        assert v["equilibrium"] <= verify.TOL_EQ and v["complementarity"] <= 1e-6
+    else:
+        assert part["alpha"] is None and part["reason"]
