@@ -6,7 +6,8 @@ worker process per core by default, or an existing scheduler given by
 scales to a cluster (workers receive the scene content, not paths). Results
 are cached by scene content and code version (:mod:`reports.cache`): an
 unchanged scene is not recomputed, an interrupted run resumes, and every result
-is written atomically as soon as it arrives. The results table goes to
+is written atomically as soon as it arrives; a failed stage is reported but not
+cached, so the next run tries it again. The results table goes to
 ``reports/out/results.csv`` and ``.parquet``, the report to
 ``reports/out/index.html`` and ``index.md``.
 """
@@ -41,6 +42,12 @@ def plan(files, stages, cache: Cache, fresh: bool):
             else:
                 todo.append((stage, name, k, data, opts))
     return done, todo
+
+
+def _failed(stage: str, res: dict) -> bool:
+    if stage == "dem":
+        return res.get("status") == "failed"
+    return (res.get("lp") or {}).get("status") == "failed" or (res.get("nlp") or {}).get("status") == "failed"
 
 
 def _run_task(stage, data, opts):
@@ -79,7 +86,7 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
                 res = {"status": "failed", "alpha": None, "reason": f"worker error: {type(exc).__name__}: {exc}"}
                 if stage == "la":
                     res = {"lp": res}
-            if not (stage == "dem" and res.get("reason", "").startswith("worker error")):
+            if not _failed(stage, res):  # failures are not cached: the next run tries them again
                 cache.put(stage, name, k, res)
             results[(name, stage)] = res
             status = res.get("status") if stage == "dem" else res.get("lp", {}).get("status")

@@ -1,0 +1,116 @@
+"""The validation run and its report: contents checked against the results table, caching,
+and DEM faults shown as failures while the run goes on."""
+import json
+import re
+
+import pandas as pd
+import pytest
+
+from reports import render, table
+from reports.validate import main as validate_main
+
+SCENES = ["block-rocking-2d", "portal-2d"]
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory, monkeypatch_module):
+    tmp = tmp_path_factory.mktemp("validate")
+    monkeypatch_module.setenv("DEM_YADE", str(tmp / "no-such-yade"))  # every DEM run fails: YADE missing
+    args = ["--only", *SCENES, "--cache", str(tmp / "cache"), "--out", str(tmp / "out"), "--jobs", "2",
+            "--no-progress"]
+    code = validate_main(args)
+    return tmp, args, code
+
+
+@pytest.fixture(scope="module")
+def monkeypatch_module():
+    mp = pytest.MonkeyPatch()
+    yield mp
+    mp.undo()
+
+
+def test_run_completes_and_writes_everything(run):
+    tmp, _, code = run
+    assert code == 0
+    out = tmp / "out"
+    for f in ("index.html", "index.md", "results.csv", "results.parquet", "figures/alpha.png",
+              "figures/time_error.png", "figures/portal-2d.png", "vtk/portal-2d.vtk"):
+        assert (out / f).exists(), f
+
+
+def test_table_matches_cached_results(run):
+    tmp, _, _ = run
+    df = pd.read_csv(tmp / "out" / "results.csv")
+    pq = pd.read_parquet(tmp / "out" / "results.parquet")
+    assert list(df.name) == SCENES == list(pq.name)
+    for name in SCENES:
+        la = json.loads(next((tmp / "cache" / "la").glob(f"{name}-*.json")).read_text())
+        r = df[df.name == name].iloc[0]
+        assert r.lp_alpha == pytest.approx(la["lp"]["alpha"], rel=1e-12)
+        assert r.lp_status == la["lp"]["status"] == "optimal"
+        assert r.ref_alpha == pytest.approx(json.loads(open(f"scenes/catalog/{name}.json").read())["expected"]["alpha"])
+        assert abs(r.lp_err) < 1e-6
+
+
+def test_report_shows_every_scene_and_its_numbers(run):
+    tmp, _, _ = run
+    df = pd.read_csv(tmp / "out" / "results.csv")
+    html = (tmp / "out" / "index.html").read_text()
+    md = (tmp / "out" / "index.md").read_text()
+    for _, r in df.iterrows():
+        assert f"id='{r['name']}'" in html and f"## {r['name']}" in md
+        assert format(r.lp_alpha, ".4g") in html
+        assert format(r.lp_alpha, ".4g") in md
+
+
+def test_dem_fault_is_failed_in_red_and_not_cached(run):
+    tmp, args, _ = run
+    df = pd.read_csv(tmp / "out" / "results.csv")
+    assert set(df.dem_status) == {"failed"}
+    assert all("yade" in str(x).lower() for x in df.dem_reason)
+    html = (tmp / "out" / "index.html").read_text()
+    assert len(re.findall(r"<td class='failed'>failed</td>", html)) == len(SCENES)
+    assert "**failed**" in (tmp / "out" / "index.md").read_text()
+    assert not list((tmp / "cache").glob("dem/*.json"))  # failures are retried next time, never cached
+
+
+def test_cache_reused_and_changed_scene_recomputed(run, tmp_path, capsys):
+    tmp, args, _ = run
+    from reports.cache import Cache
+    from reports.validate import plan
+    from scenes.catalog import CATALOG_DIR
+
+    files = [CATALOG_DIR / f"{n}.json" for n in SCENES]
+    done, todo = plan(files, ["la"], Cache(tmp / "cache"), fresh=False)
+    assert len(done) == len(SCENES) and not todo
+    changed = tmp_path / "portal-2d.json"
+    d = json.loads(files[1].read_text())
+    d["friction"] = 0.95
+    changed.write_text(json.dumps(d))
+    done, todo = plan([files[0], changed], ["la"], Cache(tmp / "cache"), fresh=False)
+    assert [t[1] for t in todo] == ["portal-2d"] and len(done) == 1
+
+
+def test_failed_lp_is_red():
+    row = {"name": "x", "title": "", "figure": "", "dim": 2, "n_blocks": 2, "n_interfaces": 1, "ref_alpha": None,
+           "ref_kind": None, "ref_source": "", "lp_status": "failed", "lp_alpha": None, "lp_reason": "boom",
+           "nlp_status": "skipped", "nlp_alpha": None, "nlp_reason": "", "global_status": None,
+           "global_alpha": None, "iter_status": None, "iter_alpha": None, "fric_alpha": None,
+           "dem_status": "collapsed", "dem_alpha": 0.3, "dem_reason": "", "dem_uncertainty": 0.01,
+           "lp_err": float("nan"), "nlp_err": float("nan"), "dem_vs_la": float("nan"), "lp_time_s": 0.1,
+           "nlp_time_s": None, "dem_time_s": 10.0, "mech_similarity": float("nan"), "mech_kind": "lp"}
+    df = pd.DataFrame([row])
+    html = render._html(df, {}, "now", None)
+    assert "<td class='failed'>failed</td>" in html
+    assert any("The LP failed: boom" in s for s in render.explain(df.iloc[0]))
+
+
+def test_similarity_is_scale_free():
+    from limit.scene import load_scene
+    from scenes import builders as B
+
+    s = load_scene(B.stack(2, dim=2))
+    m = {"s0": [0.1, 0.0, -0.2], "s1": [0.3, 0.05, -0.2]}
+    assert table.similarity(s, m, {k: [10 * x for x in v] for k, v in m.items()}) == pytest.approx(1.0)
+    assert table.similarity(s, m, {k: [-x for x in v] for k, v in m.items()}) == pytest.approx(-1.0)
+    assert table.similarity(s, m, None) != table.similarity(s, m, None)  # nan
