@@ -53,6 +53,8 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
                     break  # two solvers agree (or no one left to ask)
             if sol.status == "failed":
                 sol.reason = f"{name}: {sol.reason}"
+    if sol.status == "failed":
+        sol.alpha = None  # a rejected number is kept only in the attempts list
     if sol.status in ("unbounded", "infeasible") and len(set(verdicts)) > 1:
         sol.status, sol.reason = "failed", f"solvers disagree: {verdicts}"
     if sol.status == "unbounded" and not sol.reason:
