@@ -1,5 +1,5 @@
 """YADE side: the scene as YADE bodies, the per-contact Coulomb shear law, and
-equilibrium trials at a fixed load factor.
+the state measures the pushover (:mod:`pushover`) needs.
 
 Runs inside YADE's own Python (``yade -n -x``): imports only the standard
 library and ``yade``. SI units (m, kg, N, s, rad).
@@ -8,10 +8,11 @@ Axes: a 3D scene as given. A 2D scene (x, y) becomes prisms z in [0, t]
 (t = scene thickness) with the out-of-plane freedoms (z, rx, ry) blocked.
 
 Contacts: ``Law2_PolyhedraGeom_PolyhedraPhys_Volumetric`` gives the normal
-force kn * overlap volume (kn in N/m^3, set from the settlement strain eps:
-kn = rho g / eps, so a block of height h sinks eps h under its own weight). Its own shear force is switched off (friction angle 0):
-YADE 2023.02a keeps one shear force shared by all interactions, so any scene
-with two contacts creeps. :class:`ShearLaw` instead keeps one incremental
+force kn * overlap volume at the overlap's centroid (kn in N/m^3, from the
+settlement strain eps: kn = rho g / eps, so a block of height h sinks eps h
+under its own weight). Its own shear force is switched off (friction angle
+0): YADE 2023.02a keeps one shear force shared by all interactions, so any
+scene with two contacts creeps. :class:`ShearLaw` instead keeps one incremental
 elastic shear force per interaction, capped at mu |Fn| (Coulomb, no cohesion,
 no tension), and adds it between the interaction loop and the integrator.
 
