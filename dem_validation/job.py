@@ -46,6 +46,15 @@ def rho_g(scene) -> float:
     return rho * float(np.linalg.norm(scene.gravity))
 
 
+def yade_blocked(dim: int, blocked) -> str:
+    """YADE's ``blockedDOFs`` letters (x y z translations, X Y Z rotations) of a block's
+    blocked dofs (indices into 2D [x, y, rz] or 3D [x, y, z, rx, ry, rz]); a 2D scene's
+    prisms also have z, X, Y blocked."""
+    letters = ("x", "y", "Z") if dim == 2 else ("x", "y", "z", "X", "Y", "Z")
+    out = "".join(letters[j] for j in blocked)
+    return out + ("zXY" if dim == 2 else "")
+
+
 def build_job(scene, interfaces, f0, fL, params: dict, result="result.json") -> dict:
     """The job dict for one YADE run (all the stiffnesses of ``params["eps"]``)."""
     blocks = []
@@ -53,7 +62,8 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json") -> 
         v = np.asarray(b.poly.vertices, dtype=float)
         if scene.dim == 2:
             v = prism_vertices(v, scene.thickness)
-        blocks.append({"id": b.id, "fixed": bool(b.fixed), "mass": float(b.mass), "vertices": v.tolist()})
+        blocks.append({"id": b.id, "fixed": bool(b.fixed), "mass": float(b.mass), "vertices": v.tolist(),
+                       "blocked": yade_blocked(scene.dim, b.blocked)})
     return {
         "format": "dem-job/1",
         "name": scene.name,

@@ -36,6 +36,18 @@ class NonFiniteState(RuntimeError):
     """A body position, rotation or force became NaN or infinite."""
 
 
+def _free_part(f, t, blocked: str):
+    """Force and torque without their blocked components (YADE letters: x y z forces,
+    X Y Z torques): what the supports of those dofs take is no out-of-balance."""
+    f, t = Vector3(f), Vector3(t)
+    for k, c in enumerate("xyz"):
+        if c in blocked:
+            f[k] = 0.0
+        if c.upper() in blocked:
+            t[k] = 0.0
+    return f, t
+
+
 class ShearLaw:
     """Per-interaction incremental shear force with a Coulomb cap.
 
@@ -140,8 +152,8 @@ class Model:
             mass = float(blk["mass"]) if blk["mass"] > 0 else vol
             body.state.mass = mass
             body.state.inertia = body.shape.GetInertia() * (mass / vol)
-            if not blk["fixed"] and self.dim == 2:
-                body.state.blockedDOFs = "zXY"
+            if not blk["fixed"]:
+                body.state.blockedDOFs = blk.get("blocked", "zXY" if self.dim == 2 else "")
             bid = O.bodies.append(body)
             if bid != i:
                 raise RuntimeError("body ids do not follow block order")
@@ -280,15 +292,11 @@ class Model:
         worst = 0.0
         floor = 1e-3 * self.force_scale
         for i in self.free:
-            f, t = forces.f(i), forces.t(i)
+            f, t = _free_part(forces.f(i), forces.t(i), self.job["blocks"][i].get("blocked", "zXY" if self.dim == 2 else ""))
             (f0, t0), (fl, tl) = self.f0[i], self.fL[i]
             ref = (f0 + fl * self.alpha).norm() + floor
-            if self.dim == 2:
-                rf = math.hypot(f[0], f[1]) / ref
-                rt = abs(t[2]) / (ref * self.radius[i])
-            else:
-                rf = f.norm() / ref
-                rt = t.norm() / (ref * self.radius[i])
+            rf = f.norm() / ref
+            rt = t.norm() / (ref * self.radius[i])
             r = max(rf, rt)
             if not math.isfinite(r):
                 raise NonFiniteState(f"block {self.job['blocks'][i]['id']}: non-finite force")

@@ -63,10 +63,21 @@ class Assembled:
     f0h: np.ndarray
     fLh: np.ndarray
     timings: dict = field(default_factory=dict)
+    #: (n_free * ndof,) bool: the dofs that are unknowns (False where a block has them ``blocked``)
+    keep: np.ndarray | None = None
 
     @property
     def n_dof(self) -> int:
         return self.B.shape[1]
+
+    def full(self, v) -> np.ndarray:
+        """A dof vector (n_dof,) expanded to every free-block dof (n_free * ndof,), zero where blocked."""
+        v = np.asarray(v, dtype=float)
+        if self.keep is None or self.keep.all():
+            return v
+        out = np.zeros(self.keep.size)
+        out[self.keep] = v
+        return out
 
 
 def assemble(scene, options: Options | None = None, interfaces: Interfaces | None = None) -> Assembled:
@@ -77,8 +88,12 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     t1 = time.perf_counter()
     B = kinematics.compatibility(scene, I)
     model = yield_domain.build(I, options.model, options.n_slide, options.slide_fit)
-    A = (model.H.T @ B).tocsr()
     f0, fL = (f.ravel() for f in loads.dead_and_live(scene))
+    keep = blocked_mask(scene)
+    s_k = scaling.normal_force_estimate(scene, I, f0, fL)
+    if not keep.all():  # blocked dofs (rollers, symmetry planes) are no unknowns
+        B, f0, fL = B[:, keep].tocsr(), f0[keep], fL[keep]
+    A = (model.H.T @ B).tocsr()
 
     free = scene.free
     sizes = np.array([np.ptp(scene.blocks[i].poly.vertices, axis=0).max() for i in free]) if len(free) else np.ones(1)
@@ -87,7 +102,6 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     Wc = float(np.mean([scene.blocks[i].mass for i in free]) * g) if len(free) else 1.0
     # Variables scaled by each interface's estimated force (moments by force x half size of the contact),
     # equilibrium rows by their largest coefficient after that (see limit.scaling).
-    s_k = scaling.normal_force_estimate(scene, I, f0, fL)
     half = I.l1 if scene.dim == 2 else 0.5 * np.sqrt(np.maximum(I.area, 1e-300))
     Dx = s_k[model.x_iface] * np.where(model.x_is_moment, half[model.x_iface], 1.0)
     E = A.T.tocsr()
@@ -99,4 +113,14 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     Yh = (sp.diags(1.0 / Sy) @ Y1).tocsr()
     t2 = time.perf_counter()
     return Assembled(scene, I, model, options, B, A, f0, fL, Lc, Wc, Dx, Df, Sy, Eh, Yh,
-                     f0 / Df, fL / Df, {"interfaces_s": t1 - t0, "assembly_s": t2 - t1})
+                     f0 / Df, fL / Df, {"interfaces_s": t1 - t0, "assembly_s": t2 - t1}, keep)
+
+
+def blocked_mask(scene) -> np.ndarray:
+    """(n_free * ndof,) bool, False at the dofs the scene's blocks have ``blocked``."""
+    nd = scene.ndof
+    keep = np.ones(len(scene.free) * nd, dtype=bool)
+    for k, i in enumerate(scene.free):
+        for j in scene.blocks[i].blocked:
+            keep[k * nd + j] = False
+    return keep

@@ -68,7 +68,9 @@ def _solve(prob: cp.Problem, solver: str, overrides: dict | None = None) -> tupl
     try:
         prob.solve(solver=name, **opts)
         status = prob.status
-    except cp.error.SolverError as exc:
+    except (cp.error.SolverError, ValueError) as exc:
+        # cvxpy raises ValueError ("Cannot unpack invalid solution") when a solver ends
+        # with an unknown status (seen with HiGHS): a failed attempt, never a crash
         status = f"solver_error: {exc}"
     total = time.perf_counter() - t0
     stats = prob.solver_stats

@@ -48,7 +48,7 @@ def classify(P, u, active: float = ACTIVE) -> dict:
 def per_block(P, u) -> dict:
     """{block id: [ux, uy, rz]} (2D) or [ux, uy, uz, rx, ry, rz] (3D) for the free blocks."""
     nd = P.scene.ndof
-    U = np.asarray(u).reshape(-1, nd)
+    U = P.full(u).reshape(-1, nd)
     return {P.scene.blocks[i].id: U[k].tolist() for k, i in enumerate(P.scene.free)}
 
 

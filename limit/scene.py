@@ -47,6 +47,9 @@ class Block:
     tags: tuple
     volume: float
     mass: float
+    #: indices (into the block's dofs, see :attr:`Scene.ndof`) held at zero: a roller or a
+    #: symmetry plane (e.g. ``("y", "rx", "rz")`` on the mirror plane y = 0 of a 3D scene)
+    blocked: tuple = ()
 
     @property
     def centroid(self) -> np.ndarray:
@@ -113,6 +116,23 @@ class Scene:
 
 # ----------------------------------------------------------------------------
 # Reading
+
+
+#: names of the degrees of freedom a block may have ``blocked``
+DOF_NAMES = {2: ("x", "y", "rz"), 3: ("x", "y", "z", "rx", "ry", "rz")}
+
+
+def _blocked(bd: dict, i: int, dim: int) -> tuple:
+    names = bd.get("blocked", [])
+    if not isinstance(names, list):
+        raise SceneError(f"blocks[{i}] (block '{bd['id']}').blocked: must be a list of dof names")
+    out = []
+    for nm in names:
+        if nm not in DOF_NAMES[dim]:
+            raise SceneError(f"blocks[{i}] (block '{bd['id']}').blocked: unknown dof {json.dumps(nm)} "
+                             f"(one of {', '.join(DOF_NAMES[dim])} in {dim}D)")
+        out.append(DOF_NAMES[dim].index(nm))
+    return tuple(sorted(set(out)))
 
 
 class _NonFinite:
@@ -296,7 +316,7 @@ def load_scene(source, check_overlaps: bool = True) -> Scene:
         if vol <= (1e-9 * scale) ** dim * (thickness if dim == 2 else 1.0):
             raise SceneError(f"blocks[{i}] (block '{bd['id']}'): degenerate block with no {'area' if dim == 2 else 'volume'}")
         blocks.append(Block(bd["id"], i, poly, bool(bd.get("fixed", False)), rho,
-                            tuple(bd.get("tags", ())), vol, rho * vol))
+                            tuple(bd.get("tags", ())), vol, rho * vol, _blocked(bd, i, dim)))
 
     if not any(b.fixed for b in blocks):
         raise SceneError("blocks: no fixed block (at least one block needs \"fixed\": true to support the others)")

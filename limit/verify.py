@@ -34,8 +34,8 @@ def _inf(v) -> float:
 def block_equilibrium(P, alpha, x) -> float:
     """Largest out-of-balance of a free block relative to its own load (see module docstring)."""
     nd, d = P.scene.ndof, P.scene.dim
-    res = (P.A.T @ x + P.f0 + alpha * P.fL).reshape(-1, nd)
-    load = (P.f0 + alpha * P.fL).reshape(-1, nd)
+    res = P.full(P.A.T @ x + P.f0 + alpha * P.fL).reshape(-1, nd)
+    load = P.full(P.f0 + alpha * P.fL).reshape(-1, nd)
     size = np.array([np.ptp(P.scene.blocks[i].poly.vertices, axis=0).max() for i in P.scene.free])
     f_load = np.linalg.norm(load[:, :d], axis=1) + np.linalg.norm(load[:, d:], axis=1) / size
     floor = 1e-9 * max(float(f_load.max(initial=0.0)), 1e-300)

@@ -36,6 +36,15 @@ def explain(r) -> list[str]:
     s = []
     if r.get("ref_alpha") is not None and _finite(r.get("ref_alpha")):
         s.append(f"Reference {r['ref_kind']} = {r['ref_alpha']:.6g} ({r['ref_source']}).")
+    if r.get("notes"):
+        s.append(str(r["notes"]))
+    if r.get("pub_source"):
+        if _finite(r.get("pub_alpha")):
+            kind = f" ({r['pub_kind']})" if r.get("pub_kind") else ""
+            s.append(f"Published: alpha = {r['pub_alpha']:.4g}{kind}, {r['pub_source']}; ours differs by "
+                     f"{_pct(r.get('pub_diff'))}. {r.get('pub_note', '')}")
+        else:
+            s.append(f"Published ({r['pub_source']}): no number to compare. {r.get('pub_note', '')}")
     if r["lp_status"] in FAIL:
         s.append(f"The LP failed: {r['lp_reason']}")
     elif r["lp_status"] != "optimal":
@@ -138,7 +147,7 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
     (out / "index.md").write_text(_markdown(df, mech_png, stamp, wall_time))
 
 
-HEAD = ["scene", "dim", "blocks", "joints", "reference", "LP", "NLP", "MILP", "DEM", "LP err", "NLP err",
+HEAD = ["scene", "dim", "blocks", "joints", "reference", "published", "LP", "NLP", "MILP", "DEM", "LP err", "NLP err",
         "DEM vs LA", "LP s", "NLP s", "DEM s", "similarity"]
 
 
@@ -152,6 +161,7 @@ def _cells(r):
 
     return [r["name"], str(r["dim"]), _num(r["n_blocks"], "d") if _finite(r["n_blocks"]) else "–",
             _num(r["n_interfaces"], "d") if _finite(r["n_interfaces"]) else "–", _num(r["ref_alpha"]),
+            _num(r.get("pub_alpha")),
             st(r["lp_alpha"], r["lp_status"]), st(r["nlp_alpha"], r["nlp_status"]),
             st(r["global_alpha"], r["global_status"]), st(r["dem_alpha"], r["dem_status"]),
             _pct(r["lp_err"]), _pct(r["nlp_err"]), _pct(r["dem_vs_la"]), _num(r["lp_time_s"], ".2f"),
@@ -170,7 +180,7 @@ def _html(df, mech_png, stamp, wall_time):
          "mechanisms for ParaView: <code>vtk/&lt;scene&gt;.vtk</code>; the table: <code>results.csv</code>, "
          "<code>results.parquet</code>.</p>",
          "<table><tr>" + "".join(f"<th>{c}</th>" for c in HEAD) + "</tr>"]
-    status_cols = {5: "lp_status", 6: "nlp_status", 7: "global_status", 8: "dem_status"}
+    status_cols = {6: "lp_status", 7: "nlp_status", 8: "global_status", 9: "dem_status"}
     for _, r in df.iterrows():
         cells = _cells(r)
         row = []

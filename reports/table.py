@@ -3,6 +3,11 @@
 Columns (alpha values dimensionless, times in seconds):
 
 * scene facts: ``name``, ``title``, ``figure``, ``dim``, ``n_blocks``, ``n_free``, ``n_interfaces``;
+* ``notes``: the scene's ``meta.notes``;
+* a published value (``meta.published``, shown beside ours, not a pass/fail reference):
+  ``pub_alpha`` (None where the publication gives no number), ``pub_kind``, ``pub_source``,
+  ``pub_note`` (why ours differs), ``pub_diff`` (ours - published, relative; ours = the
+  frictional value, or the LP one where the publication's is an LP value);
 * the reference: ``ref_alpha`` and ``ref_kind`` (which collapse factor it is:
   ``alpha`` frictional, ``alpha_lp`` associative, ``alpha_nlp``), ``ref_rtol``, ``ref_source``;
 * per method: ``lp_*``, ``nlp_*``, ``global_*`` (MILP), ``iter_*`` (iterative LP),
@@ -86,6 +91,9 @@ def row(path: Path, la: dict | None, dem: dict | None) -> dict:
     ref_kind = next((k for k in ("alpha", "alpha_nlp", "alpha_lp") if exp.get(k) is not None), None)
     r.update(ref_alpha=exp.get(ref_kind) if ref_kind else None, ref_kind=ref_kind, ref_rtol=exp.get("rtol"),
              ref_source=exp.get("source", ""))
+    pub = meta.get("published") or {}
+    r.update(notes=meta.get("notes", ""), pub_alpha=pub.get("alpha"), pub_kind=pub.get("kind", ""),
+             pub_source=pub.get("source", ""), pub_note=pub.get("note", ""))
     r.update(lp_status=lp.get("status"), lp_alpha=lp.get("alpha"), lp_time_s=lp.get("time_s"),
              lp_reason=lp.get("reason", ""))
     r.update(nlp_status=nlp.get("status"), nlp_alpha=nlp.get("alpha"), nlp_time_s=nlp.get("time_s"),
@@ -108,6 +116,9 @@ def row(path: Path, la: dict | None, dem: dict | None) -> dict:
     r["nlp_err"] = _rel(r["fric_alpha"], fric_ref)
     r["dem_err"] = _rel(r["dem_alpha"], exp.get("alpha"))
     r["dem_vs_la"] = _rel(r["dem_alpha"], r["fric_alpha"])
+    ours = r["lp_alpha"] if r["pub_kind"] == "LP" else (nlp.get("alpha_arbitrary_start") if "arbitrary"
+                                                          in r["pub_kind"] else r["fric_alpha"])
+    r["pub_diff"] = _rel(ours, r["pub_alpha"])
     r["within_ref"] = (abs(r["nlp_err"]) <= (r["ref_rtol"] or 0) + 1e-12) if np.isfinite(r["nlp_err"]) else None
     mech, kind = la_mechanism(la)
     r["mech_kind"] = kind

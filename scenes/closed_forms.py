@@ -12,6 +12,7 @@ and masses, none of :mod:`limit`.
 """
 from __future__ import annotations
 
+import functools
 import itertools
 
 import numpy as np
@@ -61,10 +62,10 @@ def arch_hinge_alpha(joints, centroids, weights, live_dir=(1.0, 0.0), gravity_di
             den = r @ r
             if den < 1e-24:
                 continue
-            w2 = (np.cross(r, v2)) / den
+            w2 = (r[0] * v2[1] - r[1] * v2[0]) / den
             v3 = _rot(w2, h[2] - c2)
             r3 = h[2] - h[3]
-            w3 = np.cross(r3, v3) / (r3 @ r3)
+            w3 = (r3[0] * v3[1] - r3[1] * v3[0]) / (r3 @ r3)
             centres = [(h[0], w1), (c2, w2), (h[3], w3)]
             ranges = [(a, b), (b, c), (c, d)]
 
@@ -106,6 +107,7 @@ def arch_hinge_alpha(joints, centroids, weights, live_dir=(1.0, 0.0), gravity_di
     return best
 
 
+@functools.lru_cache(maxsize=None)
 def arch_reference(n, R, t, span_deg=180.0, live_dir=(1.0, 0.0)) -> float:
     """Hinging collapse factor of :func:`scenes.builders.arch` (2D) by the mechanism method."""
     import math
