@@ -160,9 +160,12 @@ def _draw3d(ax, scene, moved, color):
 
 
 def alpha_chart(df, path) -> None:
-    """alpha per scene: LP, frictional (NLP / MILP), DEM, and the reference."""
+    """alpha per scene: LP, frictional (NLP / MILP), DEM, the reference and a published
+    value (hollow diamond; the paper's Fig. 2 value is 1 + alpha of our scene, see its notes)."""
     d = df.iloc[::-1].reset_index(drop=True)
-    fig, ax = plt.subplots(figsize=(8.5, 0.32 * len(d) + 1.6))
+    if "pub_alpha" not in d:
+        d["pub_alpha"] = np.nan
+    fig, ax = plt.subplots(figsize=(10.5, 0.32 * len(d) + 1.6))
     y = np.arange(len(d))
     for col, kind, marker, dy in (("lp_alpha", "lp", "o", -0.18), ("fric_alpha", "nlp", "s", -0.06),
                                   ("dem_alpha", "dem", "^", 0.06), ("ref_alpha", "ref", "*", 0.18)):
@@ -171,6 +174,13 @@ def alpha_chart(df, path) -> None:
                "ref_alpha": "reference"}[col]
         ax.scatter(vals, y + dy, marker=marker, color=COLORS[kind], s=40 if kind != "ref" else 80, label=lab,
                    zorder=3)
+    ax.scatter(d["pub_alpha"].astype(float), y + 0.18, marker="D", facecolors="none", edgecolors="#c44e52", s=55,
+               label="published", zorder=3)
+    # a scene without any alpha says why at the left edge (infeasible: collapse under the dead load)
+    for k, r in d.iterrows():
+        if not any(np.isfinite(float(v)) for v in (r.lp_alpha, r.fric_alpha, r.dem_alpha) if v is not None):
+            ax.annotate(f"LP {r.lp_status}", (0.01, k), xycoords=("axes fraction", "data"), fontsize=7,
+                        color="#8a1c1c", va="center")
     bad = d[(d.lp_status == "failed") | (d.nlp_status == "failed") | (d.dem_status == "failed")]
     for k in bad.index:
         ax.axhspan(k - 0.45, k + 0.45, color="#f8d7da", zorder=0)
@@ -179,7 +189,7 @@ def alpha_chart(df, path) -> None:
     ax.set_xlabel("collapse load factor alpha")
     ax.set_xscale("log")
     ax.grid(True, axis="x", which="both", alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: it hid points
     ax.set_title("alpha per scene (failed stages shaded red)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=100)

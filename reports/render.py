@@ -157,6 +157,8 @@ def _cells(r):
             return "failed"
         if status == "skipped" and alpha is None:
             return "skipped"
+        if status in ("infeasible", "unbounded") and not _finite(alpha):
+            return status
         return _num(alpha)
 
     return [r["name"], str(r["dim"]), _num(r["n_blocks"], "d") if _finite(r["n_blocks"]) else "–",

@@ -50,6 +50,9 @@ def entries() -> dict:
                               expected={"alpha": 0.2 / 1.05, "rtol": 1e-6,
                                         "source": "analytic: the wall overturns about its base edge, alpha = t / H"})
     oop["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
+    oop["meta"] = {"dem": _no_dem("DEM skipped in make validate: 28 blocks in 3D, like the 33-34-block 3D walls that "
+                                  "ran past 15 min of YADE; run it alone with python -m dem_validation run "
+                                  "scenes/catalog/wall-out-of-plane-3d.json")}
     add(oop)
     th = math.radians(30.0)
     obl = B.single_block(dim=3, b=0.4, h=1.0, t=0.25, mu=2.0, name="block-oblique-3d",
@@ -70,7 +73,8 @@ def entries() -> dict:
                             meta={"title": "3 x 3 running-bond wall whose joints open while they slide",
                                   "notes": "The LP's dilatant mechanism needs alpha = 1.0; without dilatancy the end "
                                            "blocks rock about a toe while the joints above open and slide at zero "
-                                           "normal force, at 5/14."}))
+                                           "normal force, at 5/14.",
+                                  "dem": {"knobs": {"cfl": 2.0, "alpha_rtol": 0.01}}}))
     add(B.running_bond_wall(6, 5, dim=3, mu=0.65, name="wall-6x5-3d",
                             meta={"dem": _no_dem(DEM_SLOW.format("scenes/catalog/wall-6x5-3d.json"))}))
     hinge_src = ("four-hinge mechanism method over all hinge sets (scenes/closed_forms.py, independent of limit/); "
@@ -150,6 +154,9 @@ def paper_entries() -> list:
                               "figure. Ours: LP and NLP from the LP start differ widely, as the paper says."}}))
     out.append(PP.fig5_trilithic(meta={
         "title": "Fig. 5: trilithic structure, 17 blocks, 26 joints", "figure": "Fig. 5", "source": src,
+        "dem": _no_dem("DEM skipped in make validate: measured past 11 min of YADE (its second, stiffer run was "
+                       "still bisecting at alpha ~0.063 against the LA's 0.083); run it alone with python -m "
+                       "dem_validation run scenes/catalog/paper-fig5-trilithic-3d.json"),
         "published": {"alpha": 0.086, "kind": "LP", "source": src + ", Fig. 5 and text (simplex, 261 unknowns)",
                       "note": "The column slenderness b/H = 0.3/3.5 was chosen so that the sway of the frame "
                               "(alpha = b/H = 0.0857) matches the paper's 0.086; our LP finds a slightly cheaper "
