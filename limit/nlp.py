@@ -51,16 +51,29 @@ def lp_start(N: NLPProblem, lp_sol) -> np.ndarray:
 
 
 def phase1(N: NLPProblem, z0: np.ndarray, backend: str) -> tuple[np.ndarray | None, str]:
-    """Keep alpha and the stresses of z0, find a non-associative mechanism minimising lam . s."""
-    lo, hi = N.bounds()
-    lo[N.ia] = hi[N.ia] = z0[N.ia]
-    lo[N.sx] = hi[N.sx] = z0[N.sx]
-    c = np.zeros(N.n)
-    c[N.sl] = np.maximum(N.slack(z0), 0.0)
-    res = lpsub.solve(c, N.Aeq, N.beq, N.Yx, np.zeros(N.Yx.shape[0]), lo, hi, backend)
+    """Keep alpha and the stresses of z0, find a non-associative mechanism minimising lam . s.
+
+    Only the kinematic unknowns (vh, lamh) are solved for: the flow rule
+    ``Eh.T vh - Gh lamh = 0``, ``fLh . vh = 1``, ``lamh >= 0``. The statics of z0 are
+    taken as they are (an interior-point LP answer meets equilibrium and yield only to
+    its tolerance; imposing them again as constraints on fixed values made HiGHS
+    report a solve error on a 3D wall).
+    """
+    P = N.P
+    nv, nf = P.n_dof, P.model.n_faces
+    A = sp.vstack([sp.hstack([P.Eh.T, -N.Gh]),
+                   sp.hstack([sp.csr_matrix(P.fLh.reshape(1, -1)), sp.csr_matrix((1, nf))])]).tocsr()
+    b = np.zeros(A.shape[0])
+    b[-1] = 1.0
+    c = np.concatenate([np.zeros(nv), np.maximum(N.slack(z0), 0.0)])
+    lo = np.concatenate([np.full(nv, -np.inf), np.zeros(nf)])
+    hi = np.full(nv + nf, np.inf)
+    res = lpsub.solve(c, A, b, sp.csr_matrix((0, nv + nf)), np.zeros(0), lo, hi, backend)
     if not res.ok:
         return None, f"phase 1 LP: {res.status}"
-    return res.z, ""
+    z = z0.copy()
+    z[N.sv], z[N.sl] = res.z[:nv], res.z[nv:]
+    return z, ""
 
 
 def arbitrary_start(N: NLPProblem, seed: int = 0) -> np.ndarray:

@@ -147,3 +147,15 @@ def test_iterative_lp_on_pure_sliding_block():
     it = iterative_lp.solve(P, sol)
     assert it["status"] == "converged"
     assert it["alpha"] == pytest.approx(0.3, rel=1e-6)
+
+
+def test_3d_wall_nlp_starts_from_an_interior_point_lp_answer():
+    """The 6 x 5 running-bond 3D wall (mu = 0.65): the LP answer (Clarabel, interior point) meets
+    equilibrium only to its tolerance; phase 1 once re-imposed it on the fixed stresses and HiGHS
+    failed ("Solve error"). The wall slides on its base course, alpha = mu, and the iterative LP
+    of Gilbert et al. agrees."""
+    P, sol = setup(B.running_bond_wall(6, 5, dim=3, mu=0.65))
+    res = nlp.step2(P, sol, method="nlp", iterative=True)
+    assert res["status"] == "optimal", res.get("reason")
+    assert res["alpha"] == pytest.approx(0.65, rel=1e-6)
+    assert res["iterative_lp"]["alpha"] == pytest.approx(res["alpha"], rel=1e-4)
