@@ -99,12 +99,37 @@ def assemble(raw: dict, p: dict) -> dict:
     eps = [r["eps"] for r in runs]
     alpha = [r["alpha"] for r in runs]
     half = [0.5 * (r["alpha_hi"] - r["alpha_lo"]) for r in runs]
+    bad = _not_asymptotic(eps, alpha, half)
+    if bad:
+        return failed(bad, **base)
     fit = richardson(eps, alpha, half, p["extrapolation_exponent"])
     if not np.isfinite(fit["alpha_rigid"]):
         return failed("non-finite extrapolated alpha", **base)
     return {"status": "collapsed", "alpha": fit["alpha_rigid"], "alpha_uncertainty": fit["uncertainty"],
             "extrapolation": dict(fit, method="richardson"), "displacement": runs[-1].get("displacement"),
             **base}
+
+
+#: a stiffer run may fall below a softer one by this much (relative) beyond their brackets
+MONOTONE_RTOL = 0.02
+
+
+def _not_asymptotic(eps, alpha, half) -> str:
+    """Why the runs cannot be extrapolated, or "".
+
+    Stiffer contacts carry at least as much as softer ones (rocking: the toe moves out
+    to the edge; sliding: no change). A stiffer run that collapses clearly earlier
+    (by more than MONOTONE_RTOL beyond the two brackets) means the softer contacts
+    were out of the asymptotic range (seen on arches at eps = 3e-4: the soft arch
+    sagged into another mechanism), and extrapolating would give a wrong number."""
+    order = sorted(range(len(eps)), key=lambda k: -eps[k])
+    for soft, stiff in zip(order, order[1:]):
+        slack = half[soft] + half[stiff] + MONOTONE_RTOL * abs(alpha[soft])
+        if alpha[stiff] < alpha[soft] - slack:
+            return (f"stiffer contacts collapsed earlier (alpha {alpha[stiff]:.4g} at eps {eps[stiff]:g} < "
+                    f"{alpha[soft]:.4g} at eps {eps[soft]:g}): the runs are not in the range where alpha "
+                    f"approaches the rigid value as eps^p; rerun with stiffer contacts (smaller eps)")
+    return ""
 
 
 def _keep(d, *keys):

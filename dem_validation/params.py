@@ -23,7 +23,7 @@ KNOBS = {
     "restart_frac": (0.9, "stiffer contacts restart from an equilibrium at or below this x the softer alpha"),
     "alpha_max": (10.0, "give up (status stable) when alpha reaches this without collapse"),
     "alpha_rtol": (0.005, "bisection stops when (hi - lo) <= alpha_rtol x hi"),
-    "eq_tol": (1e-3, "equilibrium: out-of-balance force and moment / the block's load"),
+    "eq_tol": (1e-3, "equilibrium: out-of-balance force and moment / (the block's load + its contact forces)"),
     "motion_tol": (0.02, "equilibrium: block motion per check window / (eps L)"),
     "creep_disp": (0.05, "run-away needs a motion over creep_disp x eps^(1/3) x L"),
     "surge_drop": (0.3, "the first surge of motion is over when the motion per window drops below this x its peak"),

@@ -14,7 +14,7 @@ A *trial* raises alpha from the last equilibrium to a target (linearly over
 
 * equilibrium: after at least ``observe_T`` x T (time for a slow run-away to
   show), every free block's out-of-balance force and moment are below
-  ``eq_tol`` of its load, and the largest block motion over the last check
+  ``eq_tol`` of its load plus its contact forces, and the largest block motion over the last check
   window is below ``motion_tol`` x eps x L (the elastic settlement);
 * collapse: a block moved more than ``collapse_disp`` x eps^(1/3) x H since
   the last equilibrium (several times the motion up to the peak load of a

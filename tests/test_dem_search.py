@@ -170,3 +170,15 @@ def test_assemble_failures_and_disagreement():
     assert stable["status"] == "stable" and stable["alpha"] is None
     dead = assemble({"status": "done", "runs": [_run(1e-4, lo=None, hi=0.0, dead=True)]}, p)
     assert dead["status"] == "collapsed" and dead["alpha"] is None and dead["dead_load_collapse"]
+
+
+def test_assemble_rejects_a_stiffer_run_that_collapses_earlier():
+    """Measured on the segmental arch at eps (3e-4, 3e-5): 0.440 then 0.261. Extrapolating
+    would have given 0.105 (the limit analysis: 0.821); the result must be failed instead."""
+    p = P.check({})
+    dem = assemble({"status": "done", "runs": [_run(3e-4, lo=0.4395, hi=0.4402), _run(3e-5, lo=0.2603, hi=0.2608)]}, p)
+    assert dem["status"] == "failed" and dem.get("alpha") is None
+    assert "stiffer contacts collapsed earlier" in dem["reason"]
+    # within the brackets and the 2 % allowance: still extrapolated (sliding does not depend on eps)
+    near = assemble({"status": "done", "runs": [_run(1e-4, lo=0.400, hi=0.402), _run(1e-5, lo=0.396, hi=0.398)]}, p)
+    assert near["status"] == "collapsed" and near["alpha"] is not None
