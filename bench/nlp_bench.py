@@ -80,7 +80,7 @@ def sizes_part():
         row = {"n_blocks": scene.n_blocks, "n_interfaces": len(P.I), "n_unknowns": build(P).n,
                "alpha_lp": sol.alpha, "alpha_nlp": part.get("alpha"), "nlp_status": part["status"],
                "lp_s": t_lp, "nlp_s": t_nlp, "runs": len(part.get("runs", [])),
-               "runs_verified": sum(r["verified"] for r in part.get("runs", [])),
+               "runs_verified": sum(bool(r.get("verified")) for r in part.get("runs", [])),
                "best_start": part.get("start"), "milp_status": g.get("status"), "alpha_milp": g.get("alpha"),
                "milp_bound": g.get("bound"), "milp_s": g.get("time_s"), "gap_to_milp": g.get("gap")}
         rows.append(row)

@@ -42,6 +42,8 @@ def _parser() -> argparse.ArgumentParser:
                     help="also run the iterative LP of Gilbert, Casapulla & Ahmed (2006)")
     ps.add_argument("--arbitrary-start", action="store_true",
                     help="also run the NLP from an arbitrary start (the paper's Fig. 4 comparison)")
+    ps.add_argument("--nlp-time-budget", type=float, default=None, metavar="S",
+                    help="wall-clock budget of step 2 in s: no restart begins after it (default 120)")
     return p
 
 
@@ -58,6 +60,10 @@ def cmd_solve(args) -> int:
     opts = Options(model=args.model, n_slide=args.slide_faces, slide_fit=args.slide_fit)
     nlp_options = {"solver": args.nlp_solver, "global_check": args.global_check, "iterative": args.iterative_lp,
                    "arbitrary": args.arbitrary_start}
+    if args.nlp_time_budget is not None:
+        if not args.nlp_time_budget > 0:
+            raise SceneError(f"--nlp-time-budget: must be > 0 s, got {args.nlp_time_budget}")
+        nlp_options["time_budget"] = args.nlp_time_budget
     res = analyse(scene, method=args.method, options=opts, solver=args.solver,
                   fallback=not args.no_fallback, check_kinematic=args.check_kinematic, nlp_options=nlp_options)
     print(format_result(res))

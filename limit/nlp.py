@@ -108,13 +108,15 @@ def solve_slsqp(N: NLPProblem, z0: np.ndarray, maxiter: int = 100, tol: float = 
 
 
 def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float = 1.0, rho_max: float = 1e6,
-              maxit: int = 200, lp=None, jitter: np.ndarray | None = None) -> tuple[np.ndarray, str]:
+              maxit: int = 200, lp=None, jitter: np.ndarray | None = None,
+              deadline: float | None = None) -> tuple[np.ndarray, str]:
     """Successive linearisation of min alpha + rho lam . s over the linear constraints.
 
     ``lp``: an :class:`limit.lpsub.HighsLP` of the constraint polyhedron to reuse
     (warm starts across steps and runs); built here for the "highs" backend if not given.
     ``jitter`` (n_faces,) >= 0: extra cost per unit multiplier, rho * jitter . lam, which
     steers a restart towards other mechanisms (the final point is re-checked without it).
+    ``deadline`` (time.perf_counter() value): stop there with the point reached.
     """
     z = z0.copy()
     lo, hi = N.bounds()
@@ -128,6 +130,8 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
     iters = 0
     while True:
         for _ in range(maxit):
+            if deadline is not None and time.perf_counter() > deadline:
+                return z, f"SLA: time budget spent after {iters} LPs (penalty {rho:g})"
             iters += 1
             g = e + rho * N.comp_grad(z)
             if jitter is not None:
@@ -276,8 +280,13 @@ def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FAC
 ALL_STRATEGIES = ("penalty", "random", "friction")
 
 
+#: default wall-clock budget of step 2 (s): restarts are not begun past it, and a run that
+#: is still going stops there (its point is polished and checked like any other)
+TIME_BUDGET = 120.0
+
+
 def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto", seed: int = 0,
-        restarts: bool = True, strategies=ALL_STRATEGIES) -> dict:
+        restarts: bool = True, strategies=ALL_STRATEGIES, time_budget: float | None = TIME_BUDGET) -> dict:
     """Solve step 2 from the given start; returns the raw outcome (not yet the result part).
 
     From the LP start the primary solver (SLSQP for small problems, SLA otherwise)
@@ -287,9 +296,13 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     multipliers (RANDOM_RESTARTS; seeded, reproducible), and from the associative
     LPs at reduced friction (:func:`reduced_friction_starts`). The problem is
     non-convex: each run ends at a local solution; the lowest alpha that passes
-    the independent check is kept and every run is listed.
+    the independent check is kept and every run is listed. ``time_budget`` (s, None:
+    none): once it is spent and a verified point is in hand, the run in progress
+    stops and the runs left are listed as not begun (without a verified point the
+    plan goes on: a budget never turns a solvable problem into a failure).
     """
     t0 = time.perf_counter()
+    deadline = None if time_budget is None else t0 + time_budget
     N = build(P)
     if backend == "auto":
         backend = "highs" if N.n <= 3000 else "clarabel"
@@ -324,12 +337,17 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
         lo[N.ia] = 0.0
         lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, np.zeros(N.Yx.shape[0]), lo, hi)
     runs, best = [], None
-    for lab, zs, name, rho0, jitter in plan:
+    for k, (lab, zs, name, rho0, jitter) in enumerate(plan):
         t1 = time.perf_counter()
+        have = best is not None and best[1]  # a verified point in hand
+        if deadline is not None and t1 > deadline and have:
+            runs.append({"start": lab, "solver": name, "not_run": len(plan) - k,
+                         "reason": f"time budget of {time_budget:g} s spent: {len(plan) - k} run(s) not begun"})
+            break
         if name == "slsqp":
             z, note = solve_slsqp(N, zs)
         elif name == "sla":
-            z, note = solve_sla(N, zs, backend, rho0=rho0, lp=lp, jitter=jitter)
+            z, note = solve_sla(N, zs, backend, rho0=rho0, lp=lp, jitter=jitter, deadline=deadline if have else None)
         else:
             raise ValueError(f"unknown NLP solver {name!r} (slsqp, sla or auto)")
         alpha_raw = float(z[N.ia])
@@ -352,14 +370,14 @@ GLOBAL_MAX_BLOCKS = 30
 
 def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = "auto",
           arbitrary: bool = False, global_check: bool = False, iterative: bool = False,
-          global_time_limit: float = 120.0) -> dict:
+          global_time_limit: float = 120.0, time_budget: float | None = TIME_BUDGET) -> dict:
     """The ``nlp`` part of the result file (CONTRACT.md section 3).
 
     ``method`` "auto" skips the NLP where it cannot change the answer; "nlp" always runs it.
     ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).
     ``global_check`` adds the mixed-integer global minimum (:mod:`limit.milp`) for scenes of up
     to GLOBAL_MAX_BLOCKS free blocks; ``iterative`` the iterative LP of Gilbert et al.
-    (:mod:`limit.iterative_lp`).
+    (:mod:`limit.iterative_lp`). ``time_budget``: see :func:`run`.
     """
     t0 = time.perf_counter()
     if lp_sol.status != "optimal":
@@ -372,7 +390,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
                 "mechanism": mechanism.per_block(P, lp_sol.u)}
         _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
         return part
-    out = run(P, lp_sol, solver=solver, start="lp", backend=backend)
+    out = run(P, lp_sol, solver=solver, start="lp", backend=backend, time_budget=time_budget)
     part = {"status": "optimal" if out["ok"] else "failed", "alpha": out["alpha"] if out["ok"] else None,
             "time_s": time.perf_counter() - t0, "solver": out.get("solver"), "start": out.get("start", "lp")}
     if not out["ok"]:

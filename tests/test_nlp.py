@@ -159,3 +159,19 @@ def test_3d_wall_nlp_starts_from_an_interior_point_lp_answer():
     assert res["status"] == "optimal", res.get("reason")
     assert res["alpha"] == pytest.approx(0.65, rel=1e-6)
     assert res["iterative_lp"]["alpha"] == pytest.approx(res["alpha"], rel=1e-4)
+
+
+def test_time_budget_stops_restarts_but_keeps_a_verified_answer():
+    """With a budget already spent, no restart begins once the first run is verified: the answer
+    is that run's (verified, never above the LP), and the full plan can only do better (here it
+    reaches 5/14, the MILP's global minimum in test_wall_that_opens_while_it_slides)."""
+    P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
+    out = nlp.run(P, sol, time_budget=1e-9)
+    assert out["ok"] and out["alpha"] <= sol.alpha * (1 + 1e-9)
+    done = [r for r in out["runs"] if not r.get("not_run")]
+    skipped = [r for r in out["runs"] if r.get("not_run")]
+    assert len(done) == 1 and len(skipped) == 1 and "time budget" in skipped[0]["reason"]
+    full = nlp.run(P, sol, time_budget=None)
+    assert len(full["runs"]) == len(done) + skipped[0]["not_run"]
+    assert full["alpha"] == pytest.approx(5 / 14, rel=1e-4)
+    assert full["alpha"] <= out["alpha"] + 1e-9
