@@ -283,6 +283,8 @@ ALL_STRATEGIES = ("penalty", "random", "friction")
 #: default wall-clock budget of step 2 (s): restarts are not begun past it, and a run that
 #: is still going stops there (its point is polished and checked like any other)
 TIME_BUDGET = 120.0
+#: without a verified point the plan goes on up to this many budgets, then stops for good
+HARD_FACTOR = 5.0
 
 
 def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto", seed: int = 0,
@@ -298,11 +300,12 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     non-convex: each run ends at a local solution; the lowest alpha that passes
     the independent check is kept and every run is listed. ``time_budget`` (s, None:
     none): once it is spent and a verified point is in hand, the run in progress
-    stops and the runs left are listed as not begun (without a verified point the
-    plan goes on: a budget never turns a solvable problem into a failure).
+    stops and the runs left are listed as not begun; without a verified point the
+    plan goes on up to HARD_FACTOR budgets (a result that fails then says so).
     """
     t0 = time.perf_counter()
     deadline = None if time_budget is None else t0 + time_budget
+    hard = None if time_budget is None else t0 + HARD_FACTOR * time_budget
     N = build(P)
     if backend == "auto":
         backend = "highs" if N.n <= 3000 else "clarabel"
@@ -340,14 +343,15 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     for k, (lab, zs, name, rho0, jitter) in enumerate(plan):
         t1 = time.perf_counter()
         have = best is not None and best[1]  # a verified point in hand
-        if deadline is not None and t1 > deadline and have:
+        if deadline is not None and best is not None and (have and t1 > deadline or t1 > hard):
+            spent = time_budget if have else HARD_FACTOR * time_budget
             runs.append({"start": lab, "solver": name, "not_run": len(plan) - k,
-                         "reason": f"time budget of {time_budget:g} s spent: {len(plan) - k} run(s) not begun"})
+                         "reason": f"time budget of {spent:g} s spent: {len(plan) - k} run(s) not begun"})
             break
         if name == "slsqp":
             z, note = solve_slsqp(N, zs)
         elif name == "sla":
-            z, note = solve_sla(N, zs, backend, rho0=rho0, lp=lp, jitter=jitter, deadline=deadline if have else None)
+            z, note = solve_sla(N, zs, backend, rho0=rho0, lp=lp, jitter=jitter, deadline=deadline if have else hard)
         else:
             raise ValueError(f"unknown NLP solver {name!r} (slsqp, sla or auto)")
         alpha_raw = float(z[N.ia])
