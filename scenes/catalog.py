@@ -103,10 +103,13 @@ def _no_dem(reason):
 #: why the larger scenes skip the DEM in ``make validate`` (its 20-minute budget on 2 cores)
 DEM_BUDGET = ("DEM skipped in make validate: {} of YADE at the default stiffness pair, more than the run's "
               "20-minute budget on 2 cores allows; run it alone with python -m dem_validation run {}")
-#: the two kinds of evidence behind an opt-out
-MEASURED_10 = "measured: timed out after 10 min"
-JUDGED = ("judged from its size (2D scenes of 19-26 blocks and 3D ones of 17-34 blocks timed out after 10-15 min) "
-          "to need well over 10 min")
+#: the kinds of evidence behind an opt-out (times on one core of a 2-core machine, default knobs)
+MEASURED_4X4 = ("measured: 14 min (838 s; DEM alpha 0.621, +3.5 % from the limit analysis's sliding at mu = 0.6: "
+                "the softer runs (0.563, 0.594) rise with stiffness and the rocking-type extrapolation overshoots)")
+JUDGED = ("judged from its size (the 18-block 4 x 4 wall took 14 min and the 26-stone Fig. 3 wall 7.7 min, "
+          "the catalog's largest DEM run) to need well over 10 min")
+#: the DEM time limit of the largest scenes that do run it in make validate (s)
+DEM_LONG_TIMEOUT = 1200.0
 
 
 def paper_entries() -> list:
@@ -148,7 +151,8 @@ def paper_entries() -> list:
             "published": {"alpha": None, "source": src + ", Fig. 3",
                           "note": "The paper gives its values only in the figure; its text reports quasi-"
                                   "monolithic collapse with the LP answer acceptable (LP close to NLP)."},
-            "dem": _no_dem(DEM_BUDGET.format(MEASURED_10 if n == 25 else JUDGED, f"scenes/catalog/{name}.json"))}))
+            "dem": ({"timeout_s": DEM_LONG_TIMEOUT} if n == 25
+                    else _no_dem(DEM_BUDGET.format(JUDGED, f"scenes/catalog/{name}.json")))}))
     out.append(PP.fig4_opus_africanum(meta={
         "title": "Fig. 4: 'opus africanum' wall, 57 stones, 138 joints", "figure": "Fig. 4", "source": src,
         "dem": _no_dem(DEM_BUDGET.format(JUDGED, "scenes/catalog/paper-fig4-opus-africanum-2d.json")),
@@ -220,7 +224,7 @@ def benchmark_entries() -> list:
                                      "notes": "A table tilted by theta loads the wall with g cos(theta) normal to it "
                                               "and g sin(theta) along it: the same as the self weight plus alpha = "
                                               "tan(theta) times a horizontal body force.",
-                                     "dem": _no_dem(DEM_BUDGET.format(MEASURED_10, "scenes/catalog/wall-4x4-tilting-2d.json")),
+                                     "dem": _no_dem(DEM_BUDGET.format(MEASURED_4X4, "scenes/catalog/wall-4x4-tilting-2d.json")),
                                      "published": {"alpha": None, "source": "Gilbert et al. 2006 / Casapulla",
                                                    "note": "No confirmed published value was found; compared "
                                                            "with the DEM and the MILP."}})
