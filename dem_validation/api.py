@@ -85,7 +85,12 @@ def assemble(raw: dict, p: dict) -> dict:
     base = {"runs": summary, "history": history, "steps": sum(r.get("steps", 0) for r in runs)}
     if not runs:
         return failed("the YADE side returned no run", **base)
-    if any(r.get("dead_load_collapse") for r in runs):
+    dead = [bool(r.get("dead_load_collapse")) for r in runs]
+    if any(dead) and not all(dead):
+        return failed("the contact stiffnesses disagree: " + ", ".join(
+            f"eps={r['eps']:g} " + ("collapsed under the dead load" if d else f"carried alpha {r.get('alpha_lo')}")
+            for r, d in zip(runs, dead)), **base)
+    if all(dead):
         return {"status": "collapsed", "alpha": None, "dead_load_collapse": True,
                 "note": "collapses under the dead load alone (alpha <= 0)",
                 "displacement": runs[-1].get("displacement"), **base}

@@ -41,6 +41,8 @@ import math
 import time
 
 STABLE, COLLAPSE = "stable", "collapse"
+#: softer-run equilibria tried in turn (highest first) as the start of a stiffer run
+RESTIFFEN_TRIES = 3
 
 
 class Clock:
@@ -186,7 +188,8 @@ def pushover(model, eps_list, p, emit=None):
     then load steps of ``step0`` growing by ``growth``. A further stiffness starts
     from the previous one's highest equilibrium at or below ``restart_frac`` x its
     alpha_lo (a state well short of the peak, where the softer contacts' larger
-    rotations do not matter), re-stiffened and re-equilibrated; its first load step
+    rotations do not matter), re-stiffened and re-equilibrated (if that state does not
+    hold, the next lower one, up to ``RESTIFFEN_TRIES`` states); its first load step
     goes to ``rebracket`` x the previous alpha_hi (stiffer contacts carry more),
     further ones by ``restep`` x the previous alpha_lo. When
     there is no such state or it does not hold, that stiffness starts again from
@@ -206,18 +209,21 @@ def pushover(model, eps_list, p, emit=None):
         start = None
         if prev is not None and prev[0]["status"] == "collapsed":
             lo_prev = prev[0]["alpha_lo"]
-            below = [(a, s) for a, s in prev[1].equilibria if a <= p["restart_frac"] * lo_prev]
-            if below:
-                a0, snap = max(below, key=lambda e: e[0])
+            below = sorted((e for e in prev[1].equilibria if e[0] <= p["restart_frac"] * lo_prev),
+                           key=lambda e: -e[0])
+            for a0, snap in below[:RESTIFFEN_TRIES]:
                 model.restore(snap)
                 search.base = prev[1].base
                 t = search.run(a0, a0, "re-stiffen", rerun=False)
                 if t["outcome"] == STABLE:
                     search.equilibria.append((a0, model.snapshot()))
                     start = (a0, max(p["restep"] * lo_prev, 1e-9), p["rebracket"] * prev[0]["alpha_hi"])
+                    break
         if start is None:
             model.restore(initial, alpha=0.0)
-            t = search.run(0.0, 0.0, "settle")
+            # after a softer run that carried the dead load, the stiffer contacts' first
+            # spring-back is not read as a collapse (as in re-stiffening)
+            t = search.run(0.0, 0.0, "settle", rerun=prev is None)
             if t["outcome"] != STABLE:
                 out.append(_result(eps, model, search, "collapsed", None, 0.0, True, model.displacements(t["ref"])))
                 prev = None

@@ -80,6 +80,9 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
         job = dict(job, result="result.json")
         (work / "job.json").write_text(json.dumps(job))
         env = dict(os.environ, OMP_NUM_THREADS="1", DEM_JOB=str(work / "job.json"))
+        # a fixed hash seed makes YADE's Python side iterate in the same order every run:
+        # rounding-level differences otherwise grow near a limit point into different answers
+        env.setdefault("PYTHONHASHSEED", "0")
         env.pop("DISPLAY", None)
         cmd = [exe, "-n", "-x", "-j1", "-f1", str(script or SCRIPT), str(work / "job.json")]
         with open(work / "yade.err", "w") as err:

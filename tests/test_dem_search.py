@@ -137,6 +137,55 @@ def test_no_collapse_up_to_alpha_max_is_stable(fake, monkeypatch):
     assert run["status"] == "stable" and run["alpha"] is None and run["alpha_lo"] == 2.0
 
 
+def _flaky_restiffen(monkeypatch, fail_restiffens, settle_misread):
+    """Patches the search so that its first ``fail_restiffens`` re-stiffenings
+    collapse, and a settle after the first stiffness reads the contacts' spring-back
+    as a collapse when the picked-up-motion rule is on (``settle_misread``)."""
+    state = {"phase": None, "restiffen": 0, "settles": 0}
+    run = pushover.Search.run
+
+    def tracked_run(self, a_from, a_to, phase, rerun=True):
+        state["phase"] = phase
+        return run(self, a_from, a_to, phase, rerun)
+
+    def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
+        ref = model.snapshot()
+        phase = state["phase"]
+        state["settles"] += phase == "settle"
+        fails = (phase == "re-stiffen" and state["restiffen"] < fail_restiffens) or (
+            phase == "settle" and settle_misread and rerun and state["settles"] > 1)
+        state["restiffen"] += phase == "re-stiffen"
+        if fails:
+            model.held = -1.0  # a wrecked state: only a restore brings it back
+            return {"outcome": pushover.COLLAPSE, "why": "fake", "steps": 10, "residual": 0.0, "motion": 1.0,
+                    "ref": ref}
+        return fake_trial(model, a_from, a_to, p, clock, steps_before, rerun)
+
+    monkeypatch.setattr(pushover.Search, "run", tracked_run)
+    monkeypatch.setattr(pushover, "trial", trial)
+
+
+def test_a_failed_restiffening_tries_the_next_lower_equilibrium(monkeypatch):
+    _flaky_restiffen(monkeypatch, 1, False)
+    p = P.check({"eps": [1e-4, 1e-5]})
+    runs = pushover.pushover(FakeModel(), p["eps"], p)
+    h = runs[1]["history"]
+    assert [r["phase"] for r in h[:2]] == ["re-stiffen", "re-stiffen"]
+    assert h[0]["outcome"] == "collapse" and h[1]["outcome"] == "stable" and h[1]["alpha"] < h[0]["alpha"]
+    ac = 0.3 - 1.2 * 1e-5 ** (1 / 3)
+    assert runs[1]["status"] == "collapsed" and runs[1]["alpha_lo"] <= ac < runs[1]["alpha_hi"]
+
+
+def test_a_stiffer_settle_after_failed_restiffenings_is_not_a_dead_load_collapse(monkeypatch):
+    _flaky_restiffen(monkeypatch, 99, True)
+    p = P.check({"eps": [1e-4, 1e-5]})
+    runs = pushover.pushover(FakeModel(), p["eps"], p)
+    h = runs[1]["history"]
+    assert [r["phase"] for r in h[:pushover.RESTIFFEN_TRIES + 1]] == ["re-stiffen"] * pushover.RESTIFFEN_TRIES + ["settle"]
+    assert not runs[1]["dead_load_collapse"] and runs[1]["status"] == "collapsed"
+    assert runs[1]["alpha_lo"] <= 0.3 - 1.2 * 1e-5 ** (1 / 3) < runs[1]["alpha_hi"]
+
+
 def test_dead_load_collapse(fake):
     p = P.check({"eps": [1e-4, 1e-5]})
     runs = pushover.pushover(fake(dead_load_collapse=True), p["eps"], p)
@@ -170,6 +219,15 @@ def test_assemble_failures_and_disagreement():
     assert stable["status"] == "stable" and stable["alpha"] is None
     dead = assemble({"status": "done", "runs": [_run(1e-4, lo=None, hi=0.0, dead=True)]}, p)
     assert dead["status"] == "collapsed" and dead["alpha"] is None and dead["dead_load_collapse"]
+
+
+def test_assemble_fails_when_only_one_stiffness_collapses_under_the_dead_load():
+    p = P.check({})
+    dem = assemble({"status": "done", "runs": [_run(1e-4, lo=0.56, hi=0.57), _run(1e-5, lo=None, hi=0.0, dead=True)]}, p)
+    assert dem["status"] == "failed" and "disagree" in dem["reason"] and "dead load" in dem["reason"]
+    both = assemble({"status": "done", "runs": [_run(1e-4, lo=None, hi=0.0, dead=True),
+                                                _run(1e-5, lo=None, hi=0.0, dead=True)]}, p)
+    assert both["status"] == "collapsed" and both["dead_load_collapse"] and both["alpha"] is None
 
 
 def test_assemble_rejects_a_stiffer_run_that_collapses_earlier():
