@@ -85,22 +85,19 @@ def assemble(raw: dict, p: dict) -> dict:
     base = {"runs": summary, "history": history, "steps": sum(r.get("steps", 0) for r in runs)}
     if not runs:
         return failed("the YADE side returned no run", **base)
-    dead = [bool(r.get("dead_load_collapse")) for r in runs]
-    if any(dead) and not all(dead):
+    kinds = ["collapsed under the dead load" if r.get("dead_load_collapse") else r["status"] for r in runs]
+    if len(set(kinds)) > 1:
         return failed("the contact stiffnesses disagree: " + ", ".join(
-            f"eps={r['eps']:g} " + ("collapsed under the dead load" if d else f"carried alpha {r.get('alpha_lo')}")
-            for r, d in zip(runs, dead)), **base)
-    if all(dead):
+            f"eps={r['eps']:g} {k}" for r, k in zip(runs, kinds)), **base)
+    if runs[0].get("dead_load_collapse"):
         return {"status": "collapsed", "alpha": None, "dead_load_collapse": True,
                 "note": "collapses under the dead load alone (alpha <= 0)",
                 "displacement": runs[-1].get("displacement"), **base}
-    statuses = {r["status"] for r in runs}
-    if statuses == {"stable"}:
+    if kinds[0] == "stable":
         return {"status": "stable", "alpha": None,
                 "note": f"no collapse up to alpha_max = {p['alpha_max']:g}", **base}
-    if statuses != {"collapsed"}:
-        return failed("the contact stiffnesses disagree: " + ", ".join(
-            f"eps={r['eps']:g} {r['status']}" for r in runs), **base)
+    if kinds[0] != "collapsed":
+        return failed(f"unexpected run status {kinds[0]!r}", **base)
     eps = [r["eps"] for r in runs]
     alpha = [r["alpha"] for r in runs]
     half = [0.5 * (r["alpha_hi"] - r["alpha_lo"]) for r in runs]

@@ -80,8 +80,8 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
         job = dict(job, result="result.json")
         (work / "job.json").write_text(json.dumps(job))
         env = dict(os.environ, OMP_NUM_THREADS="1", DEM_JOB=str(work / "job.json"))
-        # a fixed hash seed makes YADE's Python side iterate in the same order every run:
-        # rounding-level differences otherwise grow near a limit point into different answers
+        # a fixed hash seed makes YADE's Python side iterate in the same order every run, so
+        # a rerun repeats its history step for step (with random seeds the step counts differed)
         env.setdefault("PYTHONHASHSEED", "0")
         env.pop("DISPLAY", None)
         cmd = [exe, "-n", "-x", "-j1", "-f1", str(script or SCRIPT), str(work / "job.json")]
