@@ -7,6 +7,11 @@ the stage runs (every source file of the packages involved and the pinned
 versions in pyproject.toml). An unchanged scene is not recomputed; an
 interrupted run resumes from what is stored; a half-written file is never
 seen (write to a temporary file, then rename).
+
+A failed stage result is not a cache entry (the next run tries the stage again)
+but is kept whole, with its reason and histories, as
+``<root>/failed/<stage>/<scene name>-<key>-<UTC time>.json`` for diagnosis:
+a failure that does not come back on the rerun is not lost.
 """
 from __future__ import annotations
 
@@ -58,6 +63,15 @@ class Cache:
             return json.loads(p.read_text())
         except (FileNotFoundError, json.JSONDecodeError):
             return None
+
+    def put_failed(self, stage: str, name: str, k: str, result: dict) -> Path:
+        """Keep a failed result (never read back as a cache hit); returns its path."""
+        import datetime
+
+        stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%S%fZ")
+        p = self.root / "failed" / stage / f"{name}-{k}-{stamp}.json"
+        jsonio.write_json(p, result)
+        return p
 
     def put(self, stage: str, name: str, k: str, result: dict) -> Path:
         p = self.path(stage, name, k)

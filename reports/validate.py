@@ -7,7 +7,8 @@ scales to a cluster (workers receive the scene content, not paths). Results
 are cached by scene content and code version (:mod:`reports.cache`): an
 unchanged scene is not recomputed, an interrupted run resumes, and every result
 is written atomically as soon as it arrives; a failed stage is reported but not
-cached, so the next run tries it again. The results table goes to
+cached, so the next run tries it again (it is kept whole, with its histories,
+under the cache's failed/ folder for diagnosis). The results table goes to
 ``reports/out/results.csv`` and ``.parquet``, the report to
 ``reports/out/index.html`` and ``index.md``.
 """
@@ -50,6 +51,12 @@ def _failed(stage: str, res: dict) -> bool:
     return (res.get("lp") or {}).get("status") == "failed" or (res.get("nlp") or {}).get("status") == "failed"
 
 
+def _reason(stage: str, res: dict) -> str:
+    parts = [res] if stage == "dem" else [res.get("lp") or {}, res.get("nlp") or {}]
+    why = [str(p.get("reason")) for p in parts if p.get("status") == "failed" and p.get("reason")]
+    return "; ".join(why) or "no reason given"
+
+
 def _run_task(stage, data, opts):
     return STAGES[stage][1](data, opts)
 
@@ -88,6 +95,10 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
                     res = {"lp": res}
             if not _failed(stage, res):  # failures are not cached: the next run tries them again
                 cache.put(stage, name, k, res)
+            else:  # ... but kept whole for diagnosis
+                kept = cache.put_failed(stage, name, k, res)
+                tqdm.write(f"validate: {name} {stage} failed: {_reason(stage, res)} (full result: {kept})",
+                           file=sys.stderr)
             results[(name, stage)] = res
             status = res.get("status") if stage == "dem" else res.get("lp", {}).get("status")
             bar.set_postfix_str(f"{name} {stage}: {status}")

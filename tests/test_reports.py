@@ -1,5 +1,7 @@
 """The validation run and its report: contents checked against the results table, caching,
 and DEM faults shown as failures while the run goes on."""
+import contextlib
+import io
 import json
 import re
 
@@ -18,7 +20,10 @@ def run(tmp_path_factory, monkeypatch_module):
     monkeypatch_module.setenv("DEM_YADE", str(tmp / "no-such-yade"))  # every DEM run fails: YADE missing
     args = ["--only", *SCENES, "--cache", str(tmp / "cache"), "--out", str(tmp / "out"), "--jobs", "2",
             "--no-progress"]
-    code = validate_main(args)
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = validate_main(args)
+    (tmp / "stderr.txt").write_text(err.getvalue())
     return tmp, args, code
 
 
@@ -98,6 +103,14 @@ def test_dem_fault_is_failed_in_red_and_not_cached(run):
     assert "**failed**" in (tmp / "out" / "index.md").read_text()
     # failures are retried next time, never cached (an opt-out is a result and is kept)
     assert sorted(p.name.rsplit("-", 1)[0] for p in (tmp / "cache").glob("dem/*.json")) == sorted(opted_out)
+    # ... but each failure is kept whole for diagnosis, and the run's log says where
+    kept = sorted((tmp / "cache" / "failed" / "dem").glob("*.json"))
+    assert sorted(p.name.rsplit("-", 2)[0] for p in kept) == sorted(ran.name)
+    log = (tmp / "stderr.txt").read_text()
+    for p in kept:
+        res = json.loads(p.read_text())
+        assert res["status"] == "failed" and "yade" in res["reason"].lower()
+        assert str(p) in log
 
 
 def test_cache_reused_and_changed_scene_recomputed(run, tmp_path, capsys):
