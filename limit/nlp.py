@@ -133,7 +133,11 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
             if deadline is not None and time.perf_counter() > deadline:
                 return z, f"SLA: time budget spent after {iters} LPs (penalty {rho:g})"
             iters += 1
-            g = e + rho * N.comp_grad(z)
+            # the gradient of lam . s at the point clipped to lam, s >= 0: a slack a rounding error
+            # below zero would put a negative cost on that face's multiplier, and a mechanism
+            # doing no live-load work along it makes the direction LP unbounded (seen on
+            # 300-block walls with HiGHS)
+            g = e + rho * N.comp_grad(z, clip=True)
             if jitter is not None:
                 g[N.sl] += rho * jitter
             res = lp.solve(g) if lp is not None else lpsub.solve(g, N.Aeq, N.beq, N.Yx, bub, lo, hi, backend)

@@ -59,10 +59,14 @@ class NLPProblem:
     def comp(self, z) -> float:
         return float(z[self.sl] @ self.slack(z))
 
-    def comp_grad(self, z) -> np.ndarray:
+    def comp_grad(self, z, clip: bool = False) -> np.ndarray:
+        """Gradient of c(z); ``clip``: evaluated with lamh and s clipped at 0 (never a negative cost)."""
+        lam, s = z[self.sl], self.slack(z)
+        if clip:
+            lam, s = np.maximum(lam, 0.0), np.maximum(s, 0.0)
         g = np.zeros(self.n)
-        g[self.sx] = -(self.P.Yh.T @ z[self.sl])
-        g[self.sl] = self.slack(z)
+        g[self.sx] = -(self.P.Yh.T @ lam)
+        g[self.sl] = s
         return g
 
     def bounds(self):

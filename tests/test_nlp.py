@@ -175,3 +175,24 @@ def test_time_budget_stops_restarts_but_keeps_a_verified_answer():
     assert len(full["runs"]) == len(done) + skipped[0]["not_run"]
     assert full["alpha"] == pytest.approx(5 / 14, rel=1e-4)
     assert full["alpha"] <= out["alpha"] + 1e-9
+
+
+def test_sla_direction_cost_never_negative_on_a_multiplier():
+    """A slack a rounding error below zero must not give its face's multiplier a negative cost
+    in the SLA's direction LP (with a mechanism of zero live-load work along it, that LP is
+    unbounded: seen on 300-block walls). The clipped gradient equals the exact one elsewhere."""
+    P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
+    N = build(P)
+    z = nlp.lp_start(N, sol)
+    s = N.slack(z)
+    j = int(np.argmin(s))
+    # push face j's slack just below zero along its own row
+    row = P.Yh[j].toarray().ravel()
+    z[N.sx] += (s[j] + 1e-12) * row / (row @ row)
+    assert N.slack(z)[j] < 0
+    z[N.sl] = np.abs(z[N.sl]) + 0.1
+    exact, clipped = N.comp_grad(z), N.comp_grad(z, clip=True)
+    assert exact[N.sl][j] < 0 <= clipped[N.sl].min()
+    ok = N.slack(z) >= 0
+    np.testing.assert_array_equal(clipped[N.sl][ok], exact[N.sl][ok])
+    np.testing.assert_allclose(clipped[N.sx], exact[N.sx])
