@@ -96,9 +96,11 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
             if not _failed(stage, res):  # failures are not cached: the next run tries them again
                 cache.put(stage, name, k, res)
             else:  # ... but kept whole for diagnosis
-                kept = cache.put_failed(stage, name, k, res)
-                tqdm.write(f"validate: {name} {stage} failed: {_reason(stage, res)} (full result: {kept})",
-                           file=sys.stderr)
+                try:
+                    kept = f"full result: {cache.put_failed(stage, name, k, res)}"
+                except OSError as exc:  # a diagnostic copy must not stop the run
+                    kept = f"full result not kept: {exc}"
+                tqdm.write(f"validate: {name} {stage} failed: {_reason(stage, res)} ({kept})", file=sys.stderr)
             results[(name, stage)] = res
             status = res.get("status") if stage == "dem" else res.get("lp", {}).get("status")
             bar.set_postfix_str(f"{name} {stage}: {status}")

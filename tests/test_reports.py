@@ -153,3 +153,19 @@ def test_similarity_is_scale_free():
     assert table.similarity(s, m, {k: [10 * x for x in v] for k, v in m.items()}) == pytest.approx(1.0)
     assert table.similarity(s, m, {k: [-x for x in v] for k, v in m.items()}) == pytest.approx(-1.0)
     assert table.similarity(s, m, None) != table.similarity(s, m, None)  # nan
+
+
+def test_failure_copy_that_cannot_be_written_does_not_stop_the_run(tmp_path, monkeypatch, capsys):
+    from reports.cache import Cache
+
+    def full_disk(*a, **k):
+        raise OSError("No space left on device")
+
+    monkeypatch.setattr(Cache, "put_failed", full_disk)
+    monkeypatch.setenv("DEM_YADE", str(tmp_path / "no-such-yade"))
+    code = validate_main(["--only", "block-rocking-2d", "--cache", str(tmp_path / "cache"), "--out",
+                          str(tmp_path / "out"), "--jobs", "1", "--no-progress"])
+    assert code == 0
+    assert "full result not kept: No space left on device" in capsys.readouterr().err
+    df = pd.read_csv(tmp_path / "out" / "results.csv")
+    assert list(df.dem_status) == ["failed"] and list(df.lp_status) == ["optimal"]
