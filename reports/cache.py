@@ -15,6 +15,7 @@ a failure that does not come back on the rerun is not lost.
 """
 from __future__ import annotations
 
+import datetime
 import hashlib
 import json
 from functools import lru_cache
@@ -66,8 +67,6 @@ class Cache:
 
     def put_failed(self, stage: str, name: str, k: str, result: dict) -> Path:
         """Keep a failed result (never read back as a cache hit); returns its path."""
-        import datetime
-
         stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%S%fZ")
         p = self.root / "failed" / stage / f"{name}-{k}-{stamp}.json"
         jsonio.write_json(p, result)

@@ -45,15 +45,17 @@ def plan(files, stages, cache: Cache, fresh: bool):
     return done, todo
 
 
+def _parts(stage: str, res: dict) -> list[dict]:
+    """The parts of a stage result that carry a status: the DEM result, or the LP and NLP parts."""
+    return [res] if stage == "dem" else [res.get("lp") or {}, res.get("nlp") or {}]
+
+
 def _failed(stage: str, res: dict) -> bool:
-    if stage == "dem":
-        return res.get("status") == "failed"
-    return (res.get("lp") or {}).get("status") == "failed" or (res.get("nlp") or {}).get("status") == "failed"
+    return any(p.get("status") == "failed" for p in _parts(stage, res))
 
 
 def _reason(stage: str, res: dict) -> str:
-    parts = [res] if stage == "dem" else [res.get("lp") or {}, res.get("nlp") or {}]
-    why = [str(p.get("reason")) for p in parts if p.get("status") == "failed" and p.get("reason")]
+    why = [str(p["reason"]) for p in _parts(stage, res) if p.get("status") == "failed" and p.get("reason")]
     return "; ".join(why) or "no reason given"
 
 
@@ -102,7 +104,7 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
                     kept = f"full result not kept: {exc}"
                 tqdm.write(f"validate: {name} {stage} failed: {_reason(stage, res)} ({kept})", file=sys.stderr)
             results[(name, stage)] = res
-            status = res.get("status") if stage == "dem" else res.get("lp", {}).get("status")
+            status = _parts(stage, res)[0].get("status")
             bar.set_postfix_str(f"{name} {stage}: {status}")
             bar.update(1)
         bar.close()
