@@ -23,8 +23,7 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
     ``solution.status``: optimal | unbounded | infeasible | failed. alpha < 0
     (collapse under the dead load alone) is reported as "infeasible".
     """
-    if solver not in lpmod.SOLVERS:
-        raise ValueError(f"unknown solver {solver!r} (one of {', '.join(lpmod.SOLVERS)})")
+    solver = lpmod.resolve(solver, P)  # ValueError for an unknown name
     attempts = []
     if P.n_dof == 0 or not np.any(P.fL):
         sol = lpmod.LPSolution("unbounded", solver=solver,
@@ -65,7 +64,8 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
         sol.status = "infeasible"
         sol.reason = f"collapses under the dead load alone (the live load would have to act backwards, alpha = {sol.alpha:.6g})"
     if sol.status == "optimal" and check_kinematic:
-        for name in [sol.solver] + [c for c in chain if c != sol.solver]:
+        names = [sol.solver] + [c for c in chain if c != sol.solver]
+        for name in [n for n in names if n in lpmod.CVXPY_SOLVERS] or ["clarabel"]:
             kin = lpmod.kinematic_lp(P, name)
             if kin.status == "optimal":
                 break

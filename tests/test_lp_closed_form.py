@@ -6,10 +6,18 @@ import pytest
 
 from limit import mechanism
 from scenes import builders as B
+from tests import lp_helpers
 from tests.lp_helpers import lp_alpha
 
 RTOL = 1e-6
 MODELS = ["paper", "vertex"]
+
+
+@pytest.fixture(autouse=True, params=["clarabel", "ipm"])
+def lp_solver(request, monkeypatch):
+    """Every closed form is checked with Clarabel (via cvxpy) and with the structured interior point method."""
+    monkeypatch.setattr(lp_helpers, "SOLVER", request.param)
+    return request.param
 
 
 @pytest.mark.parametrize("model", MODELS)

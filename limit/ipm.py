@@ -1,0 +1,302 @@
+"""A structured primal-dual interior point method for the static LP (step 1), for large scenes.
+
+Solves the scaled static LP of :mod:`limit.lp`::
+
+    minimise -alpha  s.t.  Eh x + fLh alpha = -f0h,   Yh x + s = 0,  s >= 0
+
+with Mehrotra's predictor-corrector (Gondzio's extra centrality correctors were
+tried: 10-15 % fewer iterations, more time, so not used). Its dual variables are the mechanism
+``y`` (= the static LP's equality multipliers vh, with ``fLh . y = 1``) and
+the plastic multipliers ``z`` (= lamh >= 0).
+
+Why not a general solver: the yield rows of an interface only touch that
+interface's own actions, so ``Yh.T D Yh`` (D = z / s) is block diagonal with
+one small block per interface (3 x 3 in 2D, 6 x 6 in 3D). Eliminating the
+slacks and the actions leaves one symmetric positive definite system per
+iteration, ``N = Eh (Yh.T D Yh)^-1 Eh.T``, of the size of the block degrees of
+freedom, which CHOLMOD (through cvxopt) factors. A general solver factors the
+whole KKT system instead: Clarabel spends 0.32 s per iteration on a 10,000-block
+2D wall where this needs about 0.1 s (``make bench``, bench/out/lp_summary.md).
+The column of the live load (dense: every block) is kept out of N and
+handled by a rank-one Schur complement.
+
+The method has no infeasibility detection: when it does not converge, its
+status is "failed" and :func:`limit.analysis.solve_lp` asks the next solver
+(Clarabel), whose statuses cover unbounded and infeasible problems. Every
+answer is verified a posteriori (:mod:`limit.verify`) like any solver's.
+Requires every interface's yield rows to span its actions (true for the
+paper's and the vertex model: no action is free of all faces).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+#: regularisation of the interface blocks and of N, relative to their largest diagonal entry
+REG_H = 1e-13
+REG_N = 1e-16
+#: the largest shift tried when a factorisation fails
+REG_N_MAX = 1e-7
+#: |alpha| (scaled problem) taken as divergence: the LP is probably unbounded
+ALPHA_DIVERGED = 1e9
+#: rounds of iterative refinement of each Newton step
+REFINE = 3
+#: a Newton step whose residual is below this (scaled units) is not refined
+REFINE_ABS = 1e-11
+
+
+class _Blocks:
+    """The yield rows of each interface as a dense block, grouped by the interface's number of
+    actions k: per class ``Yd`` (n_interfaces, most faces, k), zero-padded, and where each face goes."""
+
+    def __init__(self, Yh: sp.csr_matrix, x_group: np.ndarray):
+        if np.any(np.diff(x_group) < 0):
+            raise ValueError("interface actions must be stored interface by interface")
+        Y = Yh.tocoo()
+        n_x = Yh.shape[1]
+        starts = np.flatnonzero(np.r_[True, x_group[1:] != x_group[:-1]])
+        sizes = np.diff(np.r_[starts, n_x])
+        group_of_x = np.repeat(np.arange(len(starts)), sizes)
+        pos_in_group = np.arange(n_x) - np.repeat(starts, sizes)
+        face_group = np.full(Yh.shape[0], -1)
+        face_group[Y.row] = group_of_x[Y.col]
+        if np.any(face_group[Y.row] != group_of_x[Y.col]):
+            raise ValueError("a yield face couples the actions of two interfaces")
+        self.classes = []
+        rows, cols = [], []
+        fsize = np.where(face_group >= 0, sizes[np.maximum(face_group, 0)], -1)
+        for k in np.unique(sizes):
+            gs = np.flatnonzero(sizes == k)
+            slot = np.full(len(starts), -1)
+            slot[gs] = np.arange(len(gs))
+            faces = np.flatnonzero(fsize == k)
+            fg = slot[face_group[faces]]
+            order = np.argsort(fg, kind="stable")
+            faces, fg = faces[order], fg[order]
+            counts = np.bincount(fg, minlength=len(gs))
+            frow = np.arange(len(faces)) - np.repeat(np.cumsum(counts) - counts, counts)
+            fpos = np.full(Yh.shape[0], -1)
+            fpos[faces] = np.arange(len(faces))
+            nz = fpos[Y.row] >= 0
+            Yd = np.zeros((len(gs), int(counts.max(initial=0)), k))
+            Yd[fg[fpos[Y.row[nz]]], frow[fpos[Y.row[nz]]], pos_in_group[Y.col[nz]]] = Y.data[nz]
+            xidx = starts[gs][:, None] + np.arange(k)[None, :]  # (ng, k) action indices
+            self.classes.append((Yd, faces, fg, frow))
+            rows.append(np.repeat(xidx, k, axis=1).ravel())
+            cols.append(np.tile(xidx, (1, k)).ravel())
+        self.n_x = n_x
+        self.rows = np.concatenate(rows) if rows else np.empty(0, int)
+        self.cols = np.concatenate(cols) if cols else np.empty(0, int)
+
+    def inverse(self, d: np.ndarray) -> sp.csr_matrix:
+        """``(Yh.T diag(d) Yh)^-1`` as a block-diagonal sparse matrix (n_x, n_x)."""
+        vals = []
+        for Yd, faces, fg, frow in self.classes:
+            Dp = np.zeros(Yd.shape[:2])
+            Dp[fg, frow] = d[faces]
+            H = np.einsum("gfa,gf,gfb->gab", Yd, Dp, Yd)
+            vals.append(_spd_inverse(H).ravel())
+        return sp.csr_matrix((np.concatenate(vals), (self.rows, self.cols)), shape=(self.n_x, self.n_x))
+
+
+def _spd_inverse(H: np.ndarray) -> np.ndarray:
+    """Inverses of the symmetric positive semi-definite blocks H (g, k, k), kept positive definite.
+
+    A plain inverse of a block with condition number near 1/eps can come out
+    indefinite; then all blocks go through their eigenvalues, clamped at REG_H
+    of the largest (about 4x slower, so only when needed)."""
+    k = H.shape[1]
+    try:
+        Hr = H.copy()
+        Hr[:, np.arange(k), np.arange(k)] += REG_H * np.einsum("gaa->ga", H).max(axis=1, keepdims=True)
+        Hi = np.linalg.inv(Hr)
+        Hi = 0.5 * (Hi + Hi.transpose(0, 2, 1))
+        np.linalg.cholesky(Hi)  # raises if any block is not positive definite
+        if np.all(np.isfinite(Hi)):
+            return Hi
+    except np.linalg.LinAlgError:
+        pass
+    w, V = np.linalg.eigh(H)
+    w = np.maximum(w, REG_H * np.maximum(w[:, -1:], np.finfo(float).tiny))
+    return np.einsum("gak,gk,gbk->gab", V, 1.0 / w, V)
+
+
+class _Reduced:
+    """``N = Eh Hinv Eh.T + reg I`` (n_dof, n_dof), factored by CHOLMOD (via cvxopt) on a pattern fixed
+    once, so that its symbolic analysis (the fill-reducing ordering) is done only once."""
+
+    def __init__(self, Eh: sp.csr_matrix, EhT: sp.csr_matrix, blocks: _Blocks):
+        from cvxopt import cholmod
+
+        self.Eh, self.EhT = Eh, EhT
+        ones = sp.csr_matrix((np.ones(blocks.rows.size), (blocks.rows, blocks.cols)), shape=(blocks.n_x,) * 2)
+        pat = sp.tril(abs(Eh) @ ones @ abs(EhT) + sp.identity(Eh.shape[0]), format="csc")
+        pat.sort_indices()
+        self.pattern = pat
+        self.F = cholmod.symbolic(self._cvx(pat.data), uplo="L")
+
+    def _cvx(self, data):
+        """The pattern as a cvxopt matrix (CCS order) carrying ``data``; built once, then refilled."""
+        from cvxopt import matrix, spmatrix
+
+        if not hasattr(self, "_M"):
+            P = self.pattern
+            cols = np.repeat(np.arange(P.shape[1]), np.diff(P.indptr))
+            self._M = spmatrix(matrix(data), matrix(P.indices.astype(int)), matrix(cols.astype(int)), size=P.shape)
+        else:
+            self._M.V = matrix(data)
+        return self._M
+
+    def factor(self, Hinv: sp.csr_matrix, reg: float) -> None:
+        """Numeric factorisation of N for the interface blocks' inverse Hinv (raises ArithmeticError)."""
+        from cvxopt import cholmod
+
+        N = sp.tril(self.Eh @ Hinv @ self.EhT, format="csc")
+        N = N + reg * N.diagonal().max(initial=1.0) * sp.identity(N.shape[0], format="csc")
+        # the values on the fixed pattern (entries that vanished stay as explicit zeros)
+        vals = (N + 1e-300 * self.pattern).tocsc()
+        vals.sort_indices()
+        if vals.nnz != self.pattern.nnz:
+            raise ArithmeticError("the reduced system left its sparsity pattern")
+        cholmod.numeric(self._cvx(vals.data), self.F)
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """N^-1 rhs for rhs (n,) or (n, k)."""
+        from cvxopt import cholmod, matrix
+
+        B = matrix(np.asfortranarray(rhs, dtype=float))
+        cholmod.solve(self.F, B)
+        return np.array(B).reshape(rhs.shape)
+
+
+def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
+          tol: float = 1e-9, max_iter: int = 200, verbose: bool = False) -> dict:
+    """Static LP by the structured interior point method.
+
+    x_group: (n_x,) interface of each action (sorted). Returns a dict with
+    status ("optimal" or "failed"), alpha, xh (n_x,), vh (n_dof,), lamh
+    (n_faces,), iterations, reason and per-phase seconds. ``tol`` bounds the
+    relative primal and dual residuals and the duality gap (scaled problem).
+    """
+    t0 = time.perf_counter()
+    Eh = sp.csr_matrix(Eh)
+    Yh = sp.csr_matrix(Yh)
+    EhT = Eh.T.tocsr()
+    YhT = Yh.T.tocsr()
+    blocks = _Blocks(Yh, np.asarray(x_group))
+    red = _Reduced(Eh, EhT, blocks)
+    n_x, m, nd = Yh.shape[1], Yh.shape[0], Eh.shape[0]
+    b = -np.asarray(f0h, float)
+    f = np.asarray(fLh, float)
+    x = np.zeros(n_x)
+    a = 0.0
+    s = np.ones(m)
+    z = np.ones(m)
+    y = np.zeros(nd)
+    nb = 1.0 + np.abs(b).max(initial=0.0)
+    t_setup = time.perf_counter() - t0
+    t_fact = 0.0
+    status, reason = "failed", f"not converged in {max_iter} iterations"
+    it = 0
+    for it in range(1, max_iter + 1):
+        rd = EhT @ y + YhT @ z
+        ra = float(f @ y) - 1.0
+        rp = Eh @ x + f * a - b
+        rs = Yh @ x + s
+        mu = float(s @ z) / m
+        pobj, dobj = -a, float(-b @ y)
+        gap = abs(pobj - dobj) / (1.0 + abs(pobj))
+        res_p = max(np.abs(rp).max(initial=0.0) / nb, np.abs(rs).max(initial=0.0))
+        res_d = max(np.abs(rd).max(initial=0.0) / (1.0 + np.abs(z).max(initial=0.0)), abs(ra))
+        if verbose:
+            print(f"{it:3d} alpha {a:.10f} primal {res_p:.1e} dual {res_d:.1e} gap {gap:.1e} mu {mu:.1e}")
+        if res_p <= tol and res_d <= tol and gap <= tol:
+            status, reason = "optimal", ""
+            break
+        if not np.all(np.isfinite([a, mu, res_p, res_d])):
+            reason = "the iterates are no longer finite"
+            break
+        if abs(a) > ALPHA_DIVERGED:
+            reason = f"alpha diverges ({a:.3g}): no collapse mechanism under this live load?"
+            break
+        tf = time.perf_counter()
+        d = z / s
+        Hinv = blocks.inverse(d)
+        reg = REG_N
+        while True:
+            try:
+                red.factor(Hinv, reg)
+                break
+            except ArithmeticError as exc:
+                # numerically indefinite (pivots lost to rounding): a larger shift, which the
+                # iterative refinement of each step then corrects
+                if verbose:
+                    print(f"    factor failed at reg {reg:.0e}: {exc}")
+                reg *= 1e3
+                if reg > REG_N_MAX:
+                    break
+        if reg > REG_N_MAX:
+            reason = f"the reduced system is not positive definite at iteration {it}"
+            break
+        q, fq = None, 1.0
+        t_fact += time.perf_counter() - tf
+
+        def newton(r1, r2, r3, r4, r5):
+            """The Newton step for right-hand sides (dual, normalisation, equilibrium, yield, centring)."""
+            g = -r1 - YhT @ ((z * r4 - r5) / s)
+            t = Hinv @ g
+            nonlocal q, fq
+            if q is None:  # the live-load column's solve rides with the first one of the iteration
+                p, q = red.solve(np.column_stack([Eh @ t + r3, f])).T
+                fq = float(f @ q)
+            else:
+                p = red.solve(Eh @ t + r3)
+            da = (-r2 - float(f @ p)) / fq
+            dy = p + da * q
+            dx = Hinv @ (g - EhT @ dy)
+            ds = -(Yh @ dx) - r4
+            dz = (-r5 - z * ds) / s
+            return [dx, da, ds, dy, dz]
+
+        def direction(rc):
+            """Newton step with iterative refinement on the unreduced system (the reduction loses accuracy
+            when D = z / s spans many orders of magnitude near the optimum)."""
+            rhs = (rd, ra, rp, rs, rc)
+            dv = newton(*rhs)
+            best = None
+            for _ in range(REFINE):
+                dx, da, ds, dy, dz = dv
+                e = (EhT @ dy + YhT @ dz + rd, float(f @ dy) + ra, Eh @ dx + f * da + rp, Yh @ dx + ds + rs,
+                     z * ds + s * dz + rc)
+                err = max(np.abs(np.atleast_1d(v)).max(initial=0.0) for v in e)
+                if err <= REFINE_ABS or (best is not None and err >= 0.5 * best):
+                    break
+                best = err
+                corr = newton(*e)
+                dv = [v + c for v, c in zip(dv, corr)]
+            return dv
+
+        def step(v, dv):
+            neg = dv < 0
+            return min(1.0, float((-v[neg] / dv[neg]).min())) if neg.any() else 1.0
+
+        dx, da, ds, dy, dz = direction(s * z)
+        ap, ad = step(s, ds), step(z, dz)
+        mu_aff = float((s + ap * ds) @ (z + ad * dz)) / m
+        sigma = (mu_aff / mu) ** 3
+        rc = s * z + ds * dz - sigma * mu
+        dv = direction(rc)
+        ap, ad = step(s, dv[2]), step(z, dv[4])
+        dx, da, ds, dy, dz = dv
+        ap, ad = 0.99 * ap, 0.99 * ad
+        if verbose:
+            print(f"    steps {ap:.3f} {ad:.3f} sigma {sigma:.2e}")
+        x += ap * dx
+        a += ap * da
+        s += ap * ds
+        y += ad * dy
+        z += ad * dz
+    return {"status": status, "reason": reason, "alpha": a, "xh": x, "vh": y, "lamh": z, "iterations": it,
+            "setup_s": t_setup, "factor_s": t_fact, "solve_s": time.perf_counter() - t0}

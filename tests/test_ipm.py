@@ -1,0 +1,96 @@
+"""The structured interior point method (limit.ipm) against Clarabel, and its failure paths.
+
+Clarabel (through cvxpy) is the independent second method: both solve the
+same static LP, so their verified alphas must agree; the closed forms are
+checked with both solvers in test_lp_closed_form.py.
+"""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from limit import ipm
+from limit import lp as lpmod
+from limit.analysis import solve_lp
+from limit.assemble import Options, assemble
+from limit.scene import load_scene
+from scenes import builders as B
+from scenes.catalog import catalog_files
+
+CATALOG = catalog_files()
+
+
+def _both(P):
+    ref, _, _ = solve_lp(P, "clarabel", fallback=False)
+    got, attempts, _ = solve_lp(P, "ipm", fallback=False)
+    return ref, got, attempts
+
+
+@pytest.mark.parametrize("model", ["paper", "vertex"])
+@pytest.mark.parametrize("path", CATALOG, ids=[p.stem for p in CATALOG])
+def test_same_alpha_as_clarabel_on_catalog(path, model):
+    P = assemble(load_scene(json.loads(path.read_text())), Options(model=model))
+    ref, got, attempts = _both(P)
+    assert got.status == ref.status, (got.reason, attempts)
+    assert got.solver == "ipm"
+    if ref.status == "optimal":
+        assert got.alpha == pytest.approx(ref.alpha, rel=1e-6)
+    else:  # the double arch that cannot carry itself: same negative alpha from both
+        assert attempts[0]["alpha"] < 0
+
+
+@pytest.mark.parametrize("dim,n", [(2, 1000), (3, 300)])
+def test_same_alpha_as_clarabel_on_large_walls(dim, n):
+    """Walls where the reduced system becomes ill-conditioned near the optimum (iterative refinement at work)."""
+    side = int(round(math.sqrt(n)))
+    P = assemble(load_scene(B.running_bond_wall(side, side, dim=dim, mu=0.65)))
+    ref, got, attempts = _both(P)
+    assert ref.status == got.status == "optimal", attempts
+    assert got.alpha == pytest.approx(ref.alpha, rel=1e-6)
+
+
+def test_no_mechanism_fails_then_clarabel_answers():
+    """A live load pressing the block onto its base drives no mechanism: ipm cannot tell, Clarabel can."""
+    d = B.single_block(dim=2)
+    d["loads"]["live"] = [{"type": "body_force", "direction": [0.0, -1.0]}]
+    P = assemble(load_scene(d))
+    alone, attempts, _ = solve_lp(P, "ipm", fallback=False)
+    assert alone.status == "failed" and alone.alpha is None
+    assert alone.reason.startswith("ipm:")
+    chained, attempts, _ = solve_lp(P, "ipm", fallback=True)
+    assert [a["solver"] for a in attempts][:2] == ["ipm", "clarabel"]
+    assert chained.status == "unbounded"
+
+
+def test_auto_picks_by_size():
+    small = assemble(load_scene(B.single_block(dim=2)))
+    assert lpmod.resolve("auto", small) == "clarabel"
+    big = assemble(load_scene(B.running_bond_wall(32, 32, dim=2)))
+    assert big.n_dof >= lpmod.AUTO_IPM_MIN_DOF
+    assert lpmod.resolve("auto", big) == "ipm"
+    assert lpmod.resolve("ecos", big) == "ecos"
+    with pytest.raises(ValueError, match="unknown solver"):
+        lpmod.resolve("gurobi", small)
+
+
+def test_block_inverse_stays_positive_definite():
+    """Blocks with condition numbers past 1/eps: a plain inverse may come out indefinite, ours may not."""
+    rng = np.random.default_rng(1)
+    Q, _ = np.linalg.qr(rng.standard_normal((200, 6, 6)))
+    w = 10.0 ** rng.uniform(-12, 12, (200, 6))
+    w[:, 0] = 1e-30  # numerically singular
+    H = np.einsum("gak,gk,gbk->gab", Q, w, Q)
+    Hi = ipm._spd_inverse(H)
+    assert np.all(np.isfinite(Hi))
+    assert np.allclose(Hi, Hi.transpose(0, 2, 1))
+    assert np.linalg.eigvalsh(Hi).min() > 0
+    # and on well-conditioned blocks it is the inverse
+    Hw = np.einsum("gak,gk,gbk->gab", Q, 1.0 + rng.random((200, 6)), Q)
+    assert np.allclose(ipm._spd_inverse(Hw) @ Hw, np.eye(6), atol=1e-9)
+
+
+def test_unsorted_actions_are_rejected():
+    P = assemble(load_scene(B.stack(2, dim=2)))
+    with pytest.raises(ValueError, match="interface by interface"):
+        ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface[::-1])
