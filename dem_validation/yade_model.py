@@ -219,7 +219,9 @@ class Model:
             InteractionLoop([Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
                             [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
                             [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()]),
-            PyRunner(iterPeriod=1, command="_dem_shear_apply()"),
+            # updateGlobals=False: the command is already in __main__; the default refreshes the
+            # globals on every call (a few % of a step)
+            PyRunner(iterPeriod=1, command="_dem_shear_apply()", updateGlobals=False),
             self.newton,
         ]
 
