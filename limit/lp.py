@@ -19,7 +19,7 @@ Unscaled: ``u = vh / Df`` (normalised to unit work of the live load,
 Solvers: through cvxpy ``clarabel`` (interior point, qdldl factorisation),
 ``ecos``, ``highs`` (HiGHS's own choice, dual simplex on LPs) and ``highs-ipm``;
 and ``ipm`` (:mod:`limit.ipm`), an interior point method that exploits the
-interface-by-interface structure of the yield rows (3-5x faster than Clarabel
+interface-by-interface structure of the yield rows (2-4x faster than Clarabel
 from a few thousand blocks on, no infeasibility detection: a run that does not
 converge is "failed" and the next solver is asked). ``auto`` (the default) is
 ``ipm`` from AUTO_IPM_MIN_DOF block unknowns on and ``clarabel`` below.
