@@ -29,6 +29,13 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
         sol = lpmod.LPSolution("unbounded", solver=solver,
                                reason="the live load does no work on any free block: no mechanism can be driven")
         return sol, attempts, {}
+    loose = unsupported_blocks(P)
+    if loose:
+        more = f" and {len(loose) - 5} more" if len(loose) > 5 else ""
+        sol = lpmod.LPSolution("infeasible", solver="-", reason=(
+            f"block(s) {', '.join(loose[:5])}{more} touch no other block, so nothing carries their dead load "
+            f"(a gap wider than the contact tolerance, {P.scene.tolerance:.3g} m?)"))
+        return sol, attempts, {}
     chain = [solver] + (lpmod.FALLBACK.get(solver, []) if fallback else [])
     residuals = {}
     verdicts = []
@@ -73,6 +80,15 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
         residuals["kinematic_lp_status"] = kin.status
         residuals["kinematic_lp_solver"] = kin.solver
     return sol, attempts, residuals
+
+
+def unsupported_blocks(P: Assembled) -> list[str]:
+    """Ids of the free blocks with a dead load that touch no other block (no interface)."""
+    touched = np.zeros(len(P.scene.blocks), bool)
+    touched[P.I.a] = True
+    touched[P.I.b] = True
+    dead = np.abs(P.full(P.f0)).reshape(len(P.scene.free), -1).max(axis=1) > 0
+    return [P.scene.blocks[i].id for i, d in zip(P.scene.free, dead) if d and not touched[i]]
 
 
 def lp_result(P: Assembled, sol, attempts, residuals, t_total: float) -> dict:

@@ -104,3 +104,17 @@ def test_scaled_problem_conditioning_is_independent_of_units_and_mu():
         assert abs(P.Yh).max() == pytest.approx(1.0)
         assert abs(P.Eh).max() <= 1.0 + 1e-12
     assert verify.TOL_EQ <= 1e-6
+
+
+def test_block_touching_nothing_is_named():
+    """A block lifted clear of the one below (a modelling slip): infeasible, with the block named, no solver run."""
+    d = B.stack(2, dim=2)
+    d["blocks"][-1]["box"]["center"][1] += 0.2
+    P = assemble(load_scene(d))
+    sol, attempts, _ = solve_lp(P, "auto")
+    assert sol.status == "infeasible" and sol.alpha is None
+    assert "s1" in sol.reason and "touch no other block" in sol.reason
+    assert attempts == []
+    # the same stack in contact is untouched by the check
+    sol, _, _ = solve_lp(assemble(load_scene(B.stack(2, dim=2))), "auto")
+    assert sol.status == "optimal"
