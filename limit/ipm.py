@@ -171,6 +171,74 @@ class _Reduced:
         return np.array(B).reshape(rhs.shape)
 
 
+def _max_step(v: np.ndarray, dv: np.ndarray) -> float:
+    """The largest step in [0, 1] that keeps v + step dv >= 0."""
+    neg = dv < 0
+    return min(1.0, float((-v[neg] / dv[neg]).min())) if neg.any() else 1.0
+
+
+class _Newton:
+    """Newton steps of one iteration, from one factorisation of N.
+
+    Unknowns (dx, da, ds, dy, dz); right-hand sides (r1..r5) are the residuals
+    of dual feasibility ``Eh.T y + Yh.T z``, the normalisation ``fL . y - 1``,
+    equilibrium ``Eh x + fL a + f0``, yield ``Yh x + s`` and centring ``s z - target``.
+    """
+
+    def __init__(self, Eh, EhT, Yh, YhT, f, red, Hinv, s, z, verbose=False):
+        self.Eh, self.EhT, self.Yh, self.YhT, self.f = Eh, EhT, Yh, YhT, f
+        self.red, self.Hinv, self.s, self.z = red, Hinv, s, z
+        reg = REG_N
+        while True:
+            try:
+                red.factor(Hinv, reg)
+                break
+            except ArithmeticError as exc:
+                # numerically indefinite (pivots lost to rounding): a larger shift, which the
+                # iterative refinement of each step then corrects
+                if verbose:
+                    print(f"    factor failed at reg {reg:.0e}: {exc}")
+                reg *= 1e3
+                if reg > REG_N_MAX:
+                    raise
+        self.q = None  # N^-1 fL, solved with the first right-hand side
+        self.fq = 1.0
+
+    def solve(self, r1, r2, r3, r4, r5):
+        """One Newton step for the residuals r1..r5 (unrefined)."""
+        Eh, EhT, Yh, f, s, z = self.Eh, self.EhT, self.Yh, self.f, self.s, self.z
+        g = -r1 - self.YhT @ ((z * r4 - r5) / s)
+        t = self.Hinv @ g
+        if self.q is None:  # the live-load column's solve rides with the first one
+            p, self.q = self.red.solve(np.column_stack([Eh @ t + r3, f])).T
+            self.fq = float(f @ self.q)
+        else:
+            p = self.red.solve(Eh @ t + r3)
+        da = (-r2 - float(f @ p)) / self.fq
+        dy = p + da * self.q
+        dx = self.Hinv @ (g - EhT @ dy)
+        ds = -(Yh @ dx) - r4
+        dz = (-r5 - z * ds) / s
+        return [dx, da, ds, dy, dz]
+
+    def direction(self, *rhs):
+        """The Newton step with iterative refinement on the unreduced system (the reduction loses
+        accuracy when D = z / s spans many orders of magnitude near the optimum)."""
+        r1, r2, r3, r4, r5 = rhs
+        dv = self.solve(*rhs)
+        best = None
+        for _ in range(REFINE):
+            dx, da, ds, dy, dz = dv
+            e = (self.EhT @ dy + self.YhT @ dz + r1, float(self.f @ dy) + r2, self.Eh @ dx + self.f * da + r3,
+                 self.Yh @ dx + ds + r4, self.z * ds + self.s * dz + r5)
+            err = max(np.abs(np.atleast_1d(v)).max(initial=0.0) for v in e)
+            if err <= REFINE_ABS or (best is not None and err >= 0.5 * best):
+                break
+            best = err
+            dv = [v + c for v, c in zip(dv, self.solve(*e))]
+        return dv
+
+
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
           tol: float = 1e-9, max_iter: int = 200, verbose: bool = False) -> dict:
     """Static LP by the structured interior point method.
@@ -222,75 +290,19 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
             reason = f"alpha diverges ({a:.3g}): no collapse mechanism under this live load?"
             break
         tf = time.perf_counter()
-        d = z / s
-        Hinv = blocks.inverse(d)
-        reg = REG_N
-        while True:
-            try:
-                red.factor(Hinv, reg)
-                break
-            except ArithmeticError as exc:
-                # numerically indefinite (pivots lost to rounding): a larger shift, which the
-                # iterative refinement of each step then corrects
-                if verbose:
-                    print(f"    factor failed at reg {reg:.0e}: {exc}")
-                reg *= 1e3
-                if reg > REG_N_MAX:
-                    break
-        if reg > REG_N_MAX:
+        try:
+            newton = _Newton(Eh, EhT, Yh, YhT, f, red, blocks.inverse(z / s), s, z, verbose)
+        except ArithmeticError:
             reason = f"the reduced system is not positive definite at iteration {it}"
             break
-        q, fq = None, 1.0
         t_fact += time.perf_counter() - tf
-
-        def newton(r1, r2, r3, r4, r5):
-            """The Newton step for right-hand sides (dual, normalisation, equilibrium, yield, centring)."""
-            g = -r1 - YhT @ ((z * r4 - r5) / s)
-            t = Hinv @ g
-            nonlocal q, fq
-            if q is None:  # the live-load column's solve rides with the first one of the iteration
-                p, q = red.solve(np.column_stack([Eh @ t + r3, f])).T
-                fq = float(f @ q)
-            else:
-                p = red.solve(Eh @ t + r3)
-            da = (-r2 - float(f @ p)) / fq
-            dy = p + da * q
-            dx = Hinv @ (g - EhT @ dy)
-            ds = -(Yh @ dx) - r4
-            dz = (-r5 - z * ds) / s
-            return [dx, da, ds, dy, dz]
-
-        def direction(rc):
-            """Newton step with iterative refinement on the unreduced system (the reduction loses accuracy
-            when D = z / s spans many orders of magnitude near the optimum)."""
-            rhs = (rd, ra, rp, rs, rc)
-            dv = newton(*rhs)
-            best = None
-            for _ in range(REFINE):
-                dx, da, ds, dy, dz = dv
-                e = (EhT @ dy + YhT @ dz + rd, float(f @ dy) + ra, Eh @ dx + f * da + rp, Yh @ dx + ds + rs,
-                     z * ds + s * dz + rc)
-                err = max(np.abs(np.atleast_1d(v)).max(initial=0.0) for v in e)
-                if err <= REFINE_ABS or (best is not None and err >= 0.5 * best):
-                    break
-                best = err
-                corr = newton(*e)
-                dv = [v + c for v, c in zip(dv, corr)]
-            return dv
-
-        def step(v, dv):
-            neg = dv < 0
-            return min(1.0, float((-v[neg] / dv[neg]).min())) if neg.any() else 1.0
-
-        dx, da, ds, dy, dz = direction(s * z)
-        ap, ad = step(s, ds), step(z, dz)
-        mu_aff = float((s + ap * ds) @ (z + ad * dz)) / m
+        res = (rd, ra, rp, rs)
+        dv = newton.direction(*res, s * z)  # predictor (affine scaling)
+        ap, ad = _max_step(s, dv[2]), _max_step(z, dv[4])
+        mu_aff = float((s + ap * dv[2]) @ (z + ad * dv[4])) / m
         sigma = (mu_aff / mu) ** 3
-        rc = s * z + ds * dz - sigma * mu
-        dv = direction(rc)
-        ap, ad = step(s, dv[2]), step(z, dv[4])
-        dx, da, ds, dy, dz = dv
-        ap, ad = 0.99 * ap, 0.99 * ad
+        dx, da, ds, dy, dz = newton.direction(*res, s * z + dv[2] * dv[4] - sigma * mu)  # corrector
+        ap, ad = 0.99 * _max_step(s, ds), 0.99 * _max_step(z, dz)
         if verbose:
             print(f"    steps {ap:.3f} {ad:.3f} sigma {sigma:.2e}")
         x += ap * dx
