@@ -48,7 +48,7 @@ CVXPY_SOLVERS = {
 SOLVERS = (*CVXPY_SOLVERS, "ipm", "auto")
 DEFAULT_SOLVER = "auto"
 #: "auto" uses the structured interior point method from this many block unknowns on (make bench:
-#: the two are equally fast near 1,000 2D blocks, i.e. 3,000 unknowns; ipm 3x faster at 30,000)
+#: the two are equally fast near 1,000 2D blocks, i.e. 3,000 unknowns; ipm 2.8x faster at 30,000)
 AUTO_IPM_MIN_DOF = 3000
 #: solvers tried in turn when an answer fails its verification
 FALLBACK = {"clarabel": ["highs-ipm", "ecos"], "ecos": ["clarabel"], "highs": ["clarabel"],
@@ -126,16 +126,21 @@ def static_lp(P: Assembled, solver: str = DEFAULT_SOLVER, overrides: dict | None
     st, reason = _map_status(status)
     sol = LPSolution(st, solver=solver, cvxpy_status=str(status), reason=reason, timings=t, form="static")
     if st in ("optimal", "inaccurate") and xh.value is not None and eq.dual_value is not None:
-        sol.alpha = float(a.value)
-        sol.x = P.Dx * xh.value
-        vh = np.asarray(eq.dual_value, dtype=float)
-        u = vh / P.Df
-        work = float(P.fL @ u)
-        if work != 0 and np.isfinite(work):
-            u = u / work
-        sol.u = u
-        sol.lam = np.asarray(ineq.dual_value, dtype=float) / P.Sy / (work if work else 1.0)
+        _unscale(P, sol, float(a.value), xh.value, eq.dual_value, ineq.dual_value)
     return sol
+
+
+def _unscale(P: Assembled, sol: LPSolution, alpha, xh, vh, lamh) -> None:
+    """Fill sol with the unscaled static solution: x = Dx xh; the mechanism u = vh / Df and
+    lam = lamh / Sy, both divided by the live-load work fL . u (so that fL . u = 1)."""
+    sol.alpha = float(alpha)
+    sol.x = P.Dx * np.asarray(xh, dtype=float)
+    u = np.asarray(vh, dtype=float) / P.Df
+    work = float(P.fL @ u)
+    if not (work != 0 and np.isfinite(work)):
+        work = 1.0
+    sol.u = u / work
+    sol.lam = np.asarray(lamh, dtype=float) / P.Sy / work
 
 
 def _static_ipm(P: Assembled, overrides: dict | None = None) -> LPSolution:
@@ -148,12 +153,7 @@ def _static_ipm(P: Assembled, overrides: dict | None = None) -> LPSolution:
     sol = LPSolution(r["status"], solver="ipm", cvxpy_status=f"ipm {r['status']}", reason=r["reason"],
                      timings=t, form="static")
     if r["status"] == "optimal":
-        sol.alpha = float(r["alpha"])
-        sol.x = P.Dx * r["xh"]
-        u = r["vh"] / P.Df
-        work = float(P.fL @ u)
-        sol.u = u / work if work and np.isfinite(work) else u
-        sol.lam = r["lamh"] / P.Sy / (work if work else 1.0)
+        _unscale(P, sol, r["alpha"], r["xh"], r["vh"], r["lamh"])
     return sol
 
 
