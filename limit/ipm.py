@@ -124,43 +124,52 @@ def _spd_inverse(H: np.ndarray) -> np.ndarray:
 
 
 class _Reduced:
-    """``N = Eh Hinv Eh.T + reg I`` (n_dof, n_dof), factored by CHOLMOD (via cvxopt) on a pattern fixed
+    """``N = Eh Hinv Eh.T + shift I`` (n_dof, n_dof), factored by CHOLMOD (via cvxopt) on a pattern fixed
     once, so that its symbolic analysis (the fill-reducing ordering) is done only once."""
 
     def __init__(self, Eh: sp.csr_matrix, EhT: sp.csr_matrix, blocks: _Blocks):
-        from cvxopt import cholmod
+        from cvxopt import cholmod, matrix, spmatrix
 
         self.Eh, self.EhT = Eh, EhT
         ones = sp.csr_matrix((np.ones(blocks.rows.size), (blocks.rows, blocks.cols)), shape=(blocks.n_x,) * 2)
         pat = sp.tril(abs(Eh) @ ones @ abs(EhT) + sp.identity(Eh.shape[0]), format="csc")
         pat.sort_indices()
         self.pattern = pat
-        self.F = cholmod.symbolic(self._cvx(pat.data), uplo="L")
+        cols = np.repeat(np.arange(pat.shape[1]), np.diff(pat.indptr))
+        self.diag = np.flatnonzero(pat.indices == cols)  # positions of the diagonal in pat.data
+        self._M = spmatrix(matrix(pat.data), matrix(pat.indices.astype(int)), matrix(cols.astype(int)),
+                           size=pat.shape)
+        self.F = cholmod.symbolic(self._M, uplo="L")
 
-    def _cvx(self, data):
-        """The pattern as a cvxopt matrix (CCS order) carrying ``data``; built once, then refilled."""
-        from cvxopt import matrix, spmatrix
+    def factor(self, Hinv: sp.csr_matrix, verbose: bool = False) -> None:
+        """Numeric factorisation of N for the interface blocks' inverse Hinv.
 
-        if not hasattr(self, "_M"):
-            P = self.pattern
-            cols = np.repeat(np.arange(P.shape[1]), np.diff(P.indptr))
-            self._M = spmatrix(matrix(data), matrix(P.indices.astype(int)), matrix(cols.astype(int)), size=P.shape)
-        else:
-            self._M.V = matrix(data)
-        return self._M
-
-    def factor(self, Hinv: sp.csr_matrix, reg: float) -> None:
-        """Numeric factorisation of N for the interface blocks' inverse Hinv (raises ArithmeticError)."""
-        from cvxopt import cholmod
+        The shift starts at REG_N of the largest diagonal entry (at least 1) and rises
+        1000-fold while CHOLMOD finds N numerically indefinite (pivots lost to rounding;
+        the iterative refinement of each step corrects for it); ArithmeticError beyond REG_N_MAX.
+        """
+        from cvxopt import cholmod, matrix
 
         N = sp.tril(self.Eh @ Hinv @ self.EhT, format="csc")
-        N = N + reg * N.diagonal().max(initial=1.0) * sp.identity(N.shape[0], format="csc")
-        # the values on the fixed pattern (entries that vanished stay as explicit zeros)
-        vals = (N + 1e-300 * self.pattern).tocsc()
-        vals.sort_indices()
-        if vals.nnz != self.pattern.nnz:
-            raise ArithmeticError("the reduced system left its sparsity pattern")
-        cholmod.numeric(self._cvx(vals.data), self.F)
+        if N.nnz != self.pattern.nnz:  # an entry cancelled exactly: keep it as an explicit zero
+            N = (N + 1e-300 * self.pattern).tocsc()
+        N.sort_indices()
+        vals = N.data
+        diag = vals[self.diag].copy()
+        scale = diag.max(initial=1.0)
+        reg = REG_N
+        while True:
+            vals[self.diag] = diag + reg * scale
+            self._M.V = matrix(vals)
+            try:
+                cholmod.numeric(self._M, self.F)
+                return
+            except ArithmeticError as exc:
+                if verbose:
+                    print(f"    factor failed at shift {reg:.0e}: {exc}")
+                reg *= 1e3
+                if reg > REG_N_MAX:
+                    raise
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """N^-1 rhs for rhs (n,) or (n, k)."""
@@ -188,19 +197,7 @@ class _Newton:
     def __init__(self, Eh, EhT, Yh, YhT, f, red, Hinv, s, z, verbose=False):
         self.Eh, self.EhT, self.Yh, self.YhT, self.f = Eh, EhT, Yh, YhT, f
         self.red, self.Hinv, self.s, self.z = red, Hinv, s, z
-        reg = REG_N
-        while True:
-            try:
-                red.factor(Hinv, reg)
-                break
-            except ArithmeticError as exc:
-                # numerically indefinite (pivots lost to rounding): a larger shift, which the
-                # iterative refinement of each step then corrects
-                if verbose:
-                    print(f"    factor failed at reg {reg:.0e}: {exc}")
-                reg *= 1e3
-                if reg > REG_N_MAX:
-                    raise
+        red.factor(Hinv, verbose)
         self.q = None  # N^-1 fL, solved with the first right-hand side
         self.fq = 1.0
 

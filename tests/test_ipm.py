@@ -94,3 +94,25 @@ def test_unsorted_actions_are_rejected():
     P = assemble(load_scene(B.stack(2, dim=2)))
     with pytest.raises(ValueError, match="interface by interface"):
         ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface[::-1])
+
+
+def test_reduced_system_shift():
+    """N = Eh Hinv Eh.T: a singular N factors once shifted; an indefinite one is refused."""
+    import scipy.sparse as sp
+
+    P = assemble(load_scene(B.stack(2, dim=2)))
+    blocks = ipm._Blocks(P.Yh.tocsr(), P.model.x_iface)
+    red = ipm._Reduced(P.Eh.tocsr(), P.Eh.T.tocsr(), blocks)
+    n_x = P.Yh.shape[1]
+    red.factor(sp.csr_matrix((n_x, n_x)))  # N = 0: only the shift makes it definite
+    rhs = np.arange(1.0, P.n_dof + 1)
+    assert np.all(np.isfinite(red.solve(rhs)))
+    with pytest.raises(ArithmeticError):
+        red.factor(-sp.identity(n_x, format="csr"))
+
+
+def test_cli_offers_every_solver():
+    """The CLI lists the solver names without importing cvxpy; the list must follow limit.lp."""
+    from limit import cli
+
+    assert sorted(cli.LP_SOLVERS) == sorted(lpmod.SOLVERS)
