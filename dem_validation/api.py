@@ -37,24 +37,28 @@ from .runner import failed, run_job
 
 
 def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None, yade: str | None = None,
-              keep_dir: bool = False, **knobs) -> dict:
+              keep_dir: bool = False, contact: str = "vertex", **knobs) -> dict:
     """DEM pushover of a scene (a :class:`limit.scene.Scene`, a scene dict or a path).
 
     ``knobs``: see :data:`dem_validation.params.KNOBS` (ValueError for an unknown or
     bad one). ``timeout_s``: wall-clock limit of the YADE run (None: none).
     ``progress(dict)``: called with progress records (eps, alpha, step, residual).
     ``yade``: the YADE executable (default $DEM_YADE or ``yade`` on PATH).
+    ``contact``: the block model, ``vertex`` (vertex spheres against faces, the
+    default) or ``polyhedra`` (YADE's Polyhedra, 10-25x slower).
     Raises :class:`limit.errors.SceneError` for a rejected scene; every DEM fault
     is returned as ``{"status": "failed", "reason": ...}``.
     """
     from limit.scene import Scene, load_scene
 
-    p = P.check(knobs)
+    p = P.check(knobs, contact)
     scene = scene_or_path if isinstance(scene_or_path, Scene) else load_scene(scene_or_path)
-    return run_loaded(scene, p, timeout_s=timeout_s, progress=progress, yade=yade, keep_dir=keep_dir)
+    return run_loaded(scene, p, timeout_s=timeout_s, progress=progress, yade=yade, keep_dir=keep_dir,
+                      contact=contact)
 
 
-def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep_dir=False, interfaces=None) -> dict:
+def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep_dir=False, interfaces=None,
+               contact="vertex") -> dict:
     """run_scene for a loaded scene and checked knobs ``p``."""
     from limit.interfaces import find_interfaces
     from limit.loads import dead_and_live
@@ -66,11 +70,12 @@ def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep
                 "time_s": 0.0, "params": used}
     I = find_interfaces(scene) if interfaces is None else interfaces
     f0, fL = dead_and_live(scene)
-    job = build_job(scene, I, f0, fL, p)
+    job = build_job(scene, I, f0, fL, p, contact=contact)
     raw = run_job(job, yade=yade, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
     out = assemble(raw, p)
     out["time_s"] = time.monotonic() - t0
     out["params"] = used
+    out["contact"] = contact
     return out
 
 
@@ -80,11 +85,18 @@ def assemble(raw: dict, p: dict) -> dict:
         return failed(raw.get("reason", "DEM run failed"), **_keep(raw, "steps_total"))
     runs = raw.get("runs") or []
     history = [dict(h, eps=r["eps"]) for r in runs for h in r.get("history", [])]
-    summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt")}
-               for r in runs]
+    summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt",
+                                      "sphere_radius") if k in r} for r in runs]
     base = {"runs": summary, "history": history, "steps": sum(r.get("steps", 0) for r in runs)}
     if not runs:
         return failed("the YADE side returned no run", **base)
+    pens = [h["penetration_ratio"] for h in history if h.get("outcome") == "stable" and "penetration_ratio" in h]
+    if pens:
+        base["penetration_ratio"] = max(pens)
+        if max(pens) > p["pen_limit"]:
+            return failed(f"contact penetration {max(pens):.2g} x r at an equilibrium, above pen_limit = "
+                          f"{p['pen_limit']:g}: the vertex spheres are too small for these contact forces "
+                          "(raise vertex_r or the stiffness)", **base)
     kinds = ["collapsed under the dead load" if r.get("dead_load_collapse") else r["status"] for r in runs]
     if len(set(kinds)) > 1:
         return failed("the contact stiffnesses disagree: " + ", ".join(

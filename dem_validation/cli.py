@@ -22,8 +22,10 @@ def _parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="YADE quasi-static pushover of a scene")
     r.add_argument("scene")
     r.add_argument("--json", metavar="OUT.json", help="write the result file")
-    r.add_argument("--eps", metavar="E1,E2", help="settlement strains, e.g. 1e-4,1e-5 (default %s)"
-                   % ",".join(f"{e:g}" for e in P.DEFAULTS["eps"]))
+    r.add_argument("--eps", metavar="E1,E2", help="settlement strains, e.g. 1e-5,2.5e-6 (default %s)" % "; ".join(
+        f"{c}: " + ",".join(f"{e:g}" for e in d["eps"]) for c, d in P.BY_CONTACT.items()))
+    r.add_argument("--contact", choices=("vertex", "polyhedra"), default="vertex",
+                   help="block model: vertex spheres against faces (default) or YADE Polyhedra (slower)")
     r.add_argument("--timeout", type=float, default=1800.0, metavar="S", help="wall-clock limit in s (default 1800)")
     r.add_argument("--yade", metavar="PATH", help="YADE executable (default $DEM_YADE or yade on PATH)")
     r.add_argument("--set", action="append", default=[], metavar="KNOB=VALUE",
@@ -76,14 +78,14 @@ def cmd_run(args) -> int:
     from .api import run_loaded
 
     try:
-        p = P.check(_knobs(args))
+        p = P.check(_knobs(args), args.contact)
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     scene = load_scene(args.scene)
     I = find_interfaces(scene)
     dem = run_loaded(scene, p, timeout_s=args.timeout, progress=None if args.quiet else _progress,
-                     yade=args.yade, interfaces=I)
+                     yade=args.yade, interfaces=I, contact=args.contact)
     result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
               "n_interfaces": len(I), "dem": dem}
     print(summary(result))

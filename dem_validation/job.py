@@ -15,6 +15,13 @@ loads, interfaces), so the YADE side needs no project package:
   free blocks; the YADE side sets the volumetric normal stiffness
   kn = rho_g / eps (N/m^3) for each settlement strain eps of ``params["eps"]``.
 * ``params``: the pushover knobs (dem_validation.params).
+* ``contact``: the block model, ``vertex`` (default) or ``polyhedra``. The
+  vertex model also gets ``sphere_radius``, one r (m) per stiffness of
+  ``params["eps"]``, ``point_area`` (m^2, the median interface area per
+  contact point: a 2D interface, a segment times the thickness, has 4
+  corners, a 3D one as many as its polygon) and per block ``sphere_dirs``,
+  the inset vectors d of its vertices (sphere centre v + r d,
+  :func:`dem_validation.vertex_spheres.inset_directions`).
 """
 from __future__ import annotations
 
@@ -55,8 +62,43 @@ def yade_blocked(dim: int, blocked) -> str:
     return out + ("zXY" if dim == 2 else "")
 
 
-def build_job(scene, interfaces, f0, fL, params: dict, result="result.json") -> dict:
+CONTACTS = ("vertex", "polyhedra")
+
+
+def sphere_radius(blocks_vertices, r_rel: float, point_force: float, k_point: float, pen_target: float) -> float:
+    """Vertex sphere radius (m): the larger of ``r_rel`` x Lmin (Lmin: the smallest block's
+    largest extent among the blocks given as (k, 3) vertex arrays, m) and the radius at
+    which the expected largest point force ``point_force`` (N) on a contact of stiffness
+    ``k_point`` (N/m) penetrates ``pen_target`` x r."""
+    lmin = min(float(np.ptp(v, axis=0).max()) for v in blocks_vertices)
+    return max(r_rel * lmin, point_force / k_point / pen_target)
+
+
+def expected_point_force(scene, interfaces, f0, fL) -> float:
+    """Largest expected force on one contact point (N): half the largest interface normal
+    force estimated by carrying every block's dead plus live load down to its supports
+    (:func:`limit.scaling.normal_force_estimate`) - at a hinge an interface's force sits on
+    the two points of its hinge edge."""
+    from limit.scaling import normal_force_estimate
+
+    if not len(interfaces):
+        return 0.0
+    n = normal_force_estimate(scene, interfaces, np.ravel(f0), np.ravel(fL))
+    return 0.5 * float(np.max(n))
+
+
+def point_area(interfaces, dim: int) -> float:
+    """Median interface area per contact point (m^2); 1.0 without interfaces."""
+    if not len(interfaces):
+        return 1.0
+    npts = [4 if dim == 2 else len(poly) for poly in interfaces.polygons]
+    return float(np.median(np.asarray(interfaces.area, dtype=float) / np.asarray(npts, dtype=float)))
+
+
+def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", contact="vertex") -> dict:
     """The job dict for one YADE run (all the stiffnesses of ``params["eps"]``)."""
+    if contact not in CONTACTS:
+        raise ValueError(f"contact: expected one of {', '.join(CONTACTS)}, got {contact!r}")
     blocks = []
     for b in scene.blocks:
         v = np.asarray(b.poly.vertices, dtype=float)
@@ -64,8 +106,26 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json") -> 
             v = prism_vertices(v, scene.thickness)
         blocks.append({"id": b.id, "fixed": bool(b.fixed), "mass": float(b.mass), "vertices": v.tolist(),
                        "blocked": yade_blocked(scene.dim, b.blocked)})
+    extra = {}
+    if contact == "vertex":
+        from .vertex_spheres import check_fit, inset_directions
+
+        verts = [np.asarray(b["vertices"]) for b in blocks]
+        a_point = point_area(interfaces, scene.dim)
+        force = expected_point_force(scene, interfaces, f0, fL)
+        radii = [sphere_radius([verts[i] for i in scene.free] or verts, float(params["vertex_r"]), force,
+                               rho_g(scene) / eps * a_point, float(params["pen_target"])) for eps in params["eps"]]
+        for b, v in zip(blocks, verts):
+            try:
+                b["sphere_dirs"] = inset_directions(v).tolist()
+                check_fit(v, b["sphere_dirs"], max(radii))
+            except ValueError as exc:
+                raise ValueError(f"block {b['id']}: {exc}") from None
+        extra = {"sphere_radius": radii, "point_area": a_point}
     return {
         "format": "dem-job/1",
+        "contact": contact,
+        **extra,
         "name": scene.name,
         "dim": scene.dim,
         "thickness": float(scene.thickness),

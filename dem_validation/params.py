@@ -11,8 +11,11 @@ import math
 
 #: name -> (default, description). The defaults come from bench/dem_bench.py.
 KNOBS = {
-    "eps": ((1e-4, 1e-5), "settlement strains eps = rho g / kn of the contact stiffnesses, softest first"),
-    "extrapolation_exponent": (1 / 3, "alpha(eps) = alpha_rigid - c eps^p: the exponent p"),
+    "eps": (None, "settlement strains eps = rho g / kn of the contact stiffnesses, softest first "
+                  "(default: 1e-5, 2.5e-6 for the vertex model; 1e-4, 1e-5 for polyhedra)"),
+    "extrapolation_exponent": (None, "alpha(eps) = alpha_rigid - c eps^p: the exponent p (default: 1 for the "
+                                     "vertex model, whose sphere radius and penetrations scale with eps; 1/3 "
+                                     "for polyhedra)"),
     "ks_ratio": (0.5, "shear stiffness / normal stiffness of a contact (per unit area)"),
     "damping": (0.8, "Cundall local damping of the integrator (0..1)"),
     "cfl": (1.0, "time step as a fraction of the estimated critical one"),
@@ -34,22 +37,32 @@ KNOBS = {
     "rerun_floor": (0.5, "run-away: motion per check window above this x eps L"),
     "rerun_reach": (1.2, "run-away: blocks moved this x farther than before the motion picked up again"),
     "observe_T": (1.0, "equilibrium is not declared before this x T after a load step"),
+    "vertex_r": (1e-5, "vertex model: sphere radius / Lmin (the smallest free block's largest extent)"),
+    "pen_target": (0.1, "vertex model: r is at least the expected largest point penetration / pen_target"),
+    "pen_limit": (0.3, "vertex model: a run fails when an equilibrium has a contact penetration above this x r"),
     "trial_T": (10.0, "step budget of one load step, in units of T"),
     "ramp_T": (0.0, "a load step is applied linearly over this x T"),
 }
 DEFAULTS = {k: v[0] for k, v in KNOBS.items()}
+#: the defaults that depend on the block model (``contact``)
+BY_CONTACT = {"vertex": {"eps": (1e-5, 2.5e-6), "extrapolation_exponent": 1.0},
+              "polyhedra": {"eps": (1e-4, 1e-5), "extrapolation_exponent": 1 / 3}}
 
 # Run-level options of run_scene (not sent to YADE).
-RUN_OPTIONS = ("timeout_s", "progress", "yade", "keep_dir")
+RUN_OPTIONS = ("timeout_s", "progress", "yade", "keep_dir", "contact")
 
 
-def check(knobs: dict) -> dict:
-    """Defaults updated with ``knobs``; raises ValueError naming a bad knob."""
+def check(knobs: dict, contact: str = "vertex") -> dict:
+    """Defaults (those of the block model ``contact`` included) updated with ``knobs``;
+    raises ValueError naming a bad knob."""
     unknown = sorted(set(knobs) - set(KNOBS))
     if unknown:
         raise ValueError(f"unknown DEM knob(s): {', '.join(unknown)} (known: {', '.join(KNOBS)})")
+    if contact not in BY_CONTACT:
+        raise ValueError(f"contact: expected one of {', '.join(BY_CONTACT)}, got {contact!r}")
     p = dict(DEFAULTS)
-    p.update(knobs)
+    p.update(BY_CONTACT[contact])
+    p.update({k: v for k, v in knobs.items() if v is not None})
     eps = p["eps"]
     if isinstance(eps, (int, float)):
         eps = (eps,)
@@ -73,7 +86,7 @@ def check(knobs: dict) -> dict:
             raise ValueError(f"{k}: must be finite, got {v!r}")
     positive = ("ks_ratio", "cfl", "step0", "alpha_max", "alpha_rtol", "eq_tol", "motion_tol", "creep_disp",
                 "collapse_disp", "checks_per_T", "runaway_T", "trial_T", "extrapolation_exponent", "rebracket",
-                "rerun_floor", "rerun_reach")
+                "rerun_floor", "rerun_reach", "vertex_r", "pen_limit", "pen_target")
     for k in positive:
         if not p[k] > 0:
             raise ValueError(f"{k}: must be > 0, got {p[k]!r}")

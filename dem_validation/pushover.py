@@ -147,6 +147,7 @@ class Search:
                "residual": t["residual"], "motion": t["motion"]}
         if self.base is not None:
             rec["control"] = self.model.control_displacement(self.base)
+        rec.update(self.model.stats())
         self.history.append(rec)
         return t
 

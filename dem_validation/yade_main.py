@@ -21,6 +21,34 @@ import pushover  # noqa: E402  (a sibling module, importable without the project
 import yade_model  # noqa: E402
 
 
+def run_pushovers(job, eps_list, p):
+    """(model, runs): the pushover at every stiffness. Polyhedra (``contact: polyhedra``):
+    one model, a stiffer run restarts from a softer run's equilibrium. Vertex model (the
+    default): each stiffness has its own sphere radius, so each is a new model loaded from
+    scratch (also one loading path for every stiffness, where friction makes the path matter)."""
+    contact = job.get("contact", "vertex")
+    if contact == "polyhedra":
+        import yade_polyhedra
+
+        model = yade_polyhedra.PolyhedraModel(job)
+        emit({"phase": "start", "blocks": len(model.free), "eps": eps_list})
+        return model, pushover.pushover(model, eps_list, p, emit=emit)
+    if contact != "vertex":
+        raise ValueError(f"unknown contact model {contact!r}")
+    import yade_vertex
+
+    runs = []
+    for k, eps in enumerate(eps_list):
+        if k:
+            yade_model.O.reset()
+        model = yade_vertex.VertexModel(job, k)
+        emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
+        run = pushover.pushover(model, [eps], p, emit=emit)[0]
+        run["sphere_radius"] = model.r
+        runs.append(run)
+    return model, runs
+
+
 def _vec(v):
     return [float(v[0]), float(v[1]), float(v[2])]
 
@@ -67,10 +95,8 @@ def main(argv):
     eps_list = [float(e) for e in p["eps"]]
     res = {"status": "failed", "runs": []}
     try:
-        model = yade_model.Model(job)
+        model, runs = run_pushovers(job, eps_list, p)
         res.update(length=model.length)
-        emit({"phase": "start", "blocks": len(model.free), "eps": eps_list})
-        runs = pushover.pushover(model, eps_list, p, emit=emit)
         ids = [b["id"] for b in job["blocks"]]
         for r in runs:
             c = r.pop("collapse")
@@ -82,7 +108,7 @@ def main(argv):
     except yade_model.NonFiniteState as exc:
         res.update(status="failed", reason=f"NaN/Inf in the DEM state at step {yade_model.O.iter}: {exc}")
     res["time_s"] = time.time() - t0
-    res["steps_total"] = int(yade_model.O.iter)
+    res["steps_total"] = sum(int(r.get("steps", 0)) for r in res["runs"]) or int(yade_model.O.iter)
     write_result(out, res)
     return 0
 
