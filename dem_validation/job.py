@@ -111,13 +111,14 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         from .vertex_spheres import check_fit, inset_directions
 
         verts = [np.asarray(b["vertices"]) for b in blocks]
+        up = -np.pad(np.asarray(scene.gravity, dtype=float), (0, 3 - scene.dim))
         a_point = point_area(interfaces, scene.dim)
         force = expected_point_force(scene, interfaces, f0, fL)
         radii = [sphere_radius([verts[i] for i in scene.free] or verts, float(params["vertex_r"]), force,
                                rho_g(scene) / eps * a_point, float(params["pen_target"])) for eps in params["eps"]]
         for b, v in zip(blocks, verts):
             try:
-                b["sphere_dirs"] = inset_directions(v).tolist()
+                b["sphere_dirs"] = inset_directions(v, up).tolist()
                 check_fit(v, b["sphere_dirs"], max(radii))
             except ValueError as exc:
                 raise ValueError(f"block {b['id']}: {exc}") from None

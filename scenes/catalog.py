@@ -50,9 +50,6 @@ def entries() -> dict:
                               expected={"alpha": 0.2 / 1.05, "rtol": 1e-6,
                                         "source": "analytic: the wall overturns about its base edge, alpha = t / H"})
     oop["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
-    oop["meta"] = {"dem": _no_dem("DEM skipped in make validate: 28 blocks in 3D, like the 33-34-block 3D walls that "
-                                  "ran past 15 min of YADE; run it alone with python -m dem_validation run "
-                                  "scenes/catalog/wall-out-of-plane-3d.json")}
     add(oop)
     th = math.radians(30.0)
     obl = B.single_block(dim=3, b=0.4, h=1.0, t=0.25, mu=2.0, name="block-oblique-3d",
@@ -73,10 +70,8 @@ def entries() -> dict:
                             meta={"title": "3 x 3 running-bond wall whose joints open while they slide",
                                   "notes": "The LP's dilatant mechanism needs alpha = 1.0; without dilatancy the end "
                                            "blocks rock about a toe while the joints above open and slide at zero "
-                                           "normal force, at 5/14.",
-                                  "dem": {"knobs": {"cfl": 2.0, "alpha_rtol": 0.01}}}))
-    add(B.running_bond_wall(6, 5, dim=3, mu=0.65, name="wall-6x5-3d",
-                            meta={"dem": _no_dem(DEM_SLOW.format("scenes/catalog/wall-6x5-3d.json"))}))
+                                           "normal force, at 5/14."}))
+    add(B.running_bond_wall(6, 5, dim=3, mu=0.65, name="wall-6x5-3d"))
     hinge_src = ("four-hinge mechanism method over all hinge sets (scenes/closed_forms.py, independent of limit/); "
                  "sliding does not govern at mu = 0.6")
     add(B.arch(9, R=1.0, t=0.15, dim=2, mu=0.6, name="arch-semicircular-9-2d",
@@ -84,32 +79,10 @@ def entries() -> dict:
     add(B.arch(7, R=1.5, t=0.2, span_deg=120, dim=3, mu=0.6, name="arch-segmental-7-3d",
                expected={"alpha": round(arch_reference(7, 1.5, 0.2, 120.0), 10), "rtol": 1e-6,
                          "source": hinge_src + " (the 3D arch is the 2D one extruded, loaded in its plane)"}))
-    add(B.corner_walls(courses=4, len_a=4, len_b=3, name="corner-walls-3d",
-                       meta={"dem": _no_dem(DEM_SLOW.format("scenes/catalog/corner-walls-3d.json"))}))
+    add(B.corner_walls(courses=4, len_a=4, len_b=3, name="corner-walls-3d"))
     for d in paper_entries() + benchmark_entries():
         add(d)
     return out
-
-
-#: measured 2026-11-23: the 3D running-bond walls of 33-34 blocks ran past 15 min of YADE
-DEM_SLOW = ("DEM skipped in make validate: a 3D wall of this size ran past 15 min of YADE (timed out) at the "
-            "default stiffness pair; run it alone with python -m dem_validation run {} (no time limit)")
-
-
-def _no_dem(reason):
-    return {"run": False, "reason": reason}
-
-
-#: why the larger scenes skip the DEM in ``make validate`` (its 20-minute budget on 2 cores)
-DEM_BUDGET = ("DEM skipped in make validate: {} of YADE at the default stiffness pair, more than the run's "
-              "20-minute budget on 2 cores allows; run it alone with python -m dem_validation run {}")
-#: the kinds of evidence behind an opt-out (times on one core of a 2-core machine, default knobs)
-MEASURED_4X4 = ("measured: 14 min (838 s; DEM alpha 0.621, +3.5 % from the limit analysis's sliding at mu = 0.6: "
-                "the softer runs (0.563, 0.594) rise with stiffness and the rocking-type extrapolation overshoots)")
-JUDGED = ("judged from its size (the 18-block 4 x 4 wall took 14 min and the 26-stone Fig. 3 wall 7.7 min, "
-          "the catalog's largest DEM run) to need well over 10 min")
-#: the DEM time limit of the largest scenes that do run it in make validate (s)
-DEM_LONG_TIMEOUT = 1200.0
 
 
 def paper_entries() -> list:
@@ -127,7 +100,7 @@ def paper_entries() -> list:
                                                          "(mu = 0.5 here): no geometry enters."}}))
     for tex, pub in (("a", None), ("b", 0.15)):
         meta = {"title": f"Fig. 2{tex}: double-level arches on piers, texture ({tex})", "figure": f"Fig. 2{tex}",
-                "source": src, "dem": _no_dem(DEM_BUDGET.format(JUDGED, f"scenes/catalog/paper-fig2{tex}-double-arch-2d.json")),
+                "source": src,
                 "notes": "Dead load: every stone's weight; live: an extra vertical charge on the arch stones "
                          "(see scenes/paper.fig2_double_arch for why). The paper's alpha = 1 + ours."}
         if tex == "a":
@@ -150,28 +123,22 @@ def paper_entries() -> list:
                      "alpha = W/H = 0.8 bounds the answer from above.",
             "published": {"alpha": None, "source": src + ", Fig. 3",
                           "note": "The paper gives its values only in the figure; its text reports quasi-"
-                                  "monolithic collapse with the LP answer acceptable (LP close to NLP)."},
-            "dem": ({"timeout_s": DEM_LONG_TIMEOUT} if n == 25
-                    else _no_dem(DEM_BUDGET.format(JUDGED, f"scenes/catalog/{name}.json")))}))
+                                  "monolithic collapse with the LP answer acceptable (LP close to NLP)."}}))
     out.append(PP.fig4_opus_africanum(meta={
         "title": "Fig. 4: 'opus africanum' wall, 57 stones, 138 joints", "figure": "Fig. 4", "source": src,
-        "dem": _no_dem(DEM_BUDGET.format(JUDGED, "scenes/catalog/paper-fig4-opus-africanum-2d.json")),
         "published": {"alpha": 0.106, "kind": "NLP from an arbitrary start", "source": src + ", Fig. 4a and text",
                       "note": "The paper's only number in its text is the poor local solution from an arbitrary "
                               "start (0.106, interpenetrating stones); its LP and LP-started NLP values are in the "
                               "figure. Ours: LP and NLP from the LP start differ widely, as the paper says."}}))
     out.append(PP.fig5_trilithic(meta={
         "title": "Fig. 5: trilithic structure, 17 blocks, 26 joints", "figure": "Fig. 5", "source": src,
-        "dem": _no_dem("DEM skipped in make validate: measured past 11 min of YADE (its second, stiffer run was "
-                       "still bisecting at alpha ~0.063 against the LA's 0.083); run it alone with python -m "
-                       "dem_validation run scenes/catalog/paper-fig5-trilithic-3d.json"),
         "published": {"alpha": 0.086, "kind": "LP", "source": src + ", Fig. 5 and text (simplex, 261 unknowns)",
                       "note": "The column slenderness b/H = 0.3/3.5 was chosen so that the sway of the frame "
                               "(alpha = b/H = 0.0857) matches the paper's 0.086; our LP finds a slightly cheaper "
                               "mechanism (the architraves slide on the middle columns) 3 % lower."}}))
     out.append(PP.fig6_intersecting_walls(meta={
         "title": "Fig. 6: wall held by an intersecting panel, 25 blocks, 61 joints", "figure": "Fig. 6",
-        "source": src, "dem": _no_dem(DEM_BUDGET.format(JUDGED, "scenes/catalog/paper-fig6-intersecting-walls-3d.json")),
+        "source": src,
         "published": {"alpha": None, "source": src + ", Fig. 6",
                       "note": "No alpha in the paper's text; it describes the wall rotating as a whole with the "
                               "stones at the corner turning about z."}}))
@@ -181,7 +148,6 @@ def paper_entries() -> list:
             "title": "Fig. 7: Fontana Maggiore upper basin, " + ("half model by symmetry (26 blocks, 50 joints)"
                                                                  if half else "full model (48 blocks, 96 joints)"),
             "figure": "Fig. 7", "source": src,
-            "dem": _no_dem(DEM_BUDGET.format(JUDGED, f"scenes/catalog/{nm}.json")),
             "notes": "The half model's mirror-plane blocks have y, rx, rz blocked; the full and half models must "
                      "agree (LP within 0.2 %: the 4-face friction pyramid is not mirror-symmetric on the cut "
                      "contacts; NLP equal).",
@@ -202,7 +168,6 @@ def benchmark_entries() -> list:
                       meta={"title": "27-voussoir semicircular arch (Gilbert, Casapulla & Ahmed 2006), t/R = 0.15, "
                                      "horizontal body force",
                             "source": "Gilbert, Casapulla & Ahmed, Computers & Structures 84 (2006) 873-887",
-                            "dem": _no_dem(DEM_BUDGET.format(JUDGED, "scenes/catalog/arch-semicircular-27-2d.json")),
                             "published": {"alpha": None, "source": "Gilbert et al. 2006",
                                           "note": "Gilbert et al. study this arch's minimum thickness against mu "
                                                   "under self weight; their values are in a figure we could not "
@@ -211,7 +176,6 @@ def benchmark_entries() -> list:
                               meta={"title": "Ferris & Tin-Loi (2001) wall: 6 courses, 5 blocks wide, 0.4 x 0.175 m, "
                                              "mu = 0.65",
                                     "source": "Ferris & Tin-Loi, Int. J. Mech. Sci. 43 (2001) 209-224",
-                                    "dem": _no_dem(DEM_BUDGET.format(JUDGED, "scenes/catalog/ferris-tinloi-wall-2d.json")),
                                     "published": {"alpha": None, "source": "Ferris & Tin-Loi 2001",
                                                   "note": "Their load factors could not be confirmed from a stored "
                                                           "text (only the abstract was reachable); a third-party "
@@ -224,7 +188,6 @@ def benchmark_entries() -> list:
                                      "notes": "A table tilted by theta loads the wall with g cos(theta) normal to it "
                                               "and g sin(theta) along it: the same as the self weight plus alpha = "
                                               "tan(theta) times a horizontal body force.",
-                                     "dem": _no_dem(DEM_BUDGET.format(MEASURED_4X4, "scenes/catalog/wall-4x4-tilting-2d.json")),
                                      "published": {"alpha": None, "source": "Gilbert et al. 2006 / Casapulla",
                                                    "note": "No confirmed published value was found; compared "
                                                            "with the DEM and the MILP."}})
