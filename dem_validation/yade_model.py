@@ -126,6 +126,9 @@ class BlockModel:
             s.ori = snap["ori"][i]
             s.vel = Vector3(0, 0, 0)
             s.angVel = Vector3(0, 0, 0)
+            # aspherical bodies (clumps, polyhedra) are integrated through their angular
+            # momentum: left alone, a block restored after a collapse went on turning
+            s.angMom = Vector3(0, 0, 0)
         self.after_move()
         self.restore_contact_memory(snap["memory"])
         self.collider.doSort = True

@@ -19,6 +19,17 @@ def test_defaults_check_and_sort_eps():
     assert p["damping"] == P.DEFAULTS["damping"]
 
 
+def test_defaults_follow_the_contact_model():
+    """The vertex model's sphere radius scales with eps, so its alpha approaches the rigid
+    value linearly in eps (p = 1); Polyhedra's toe sinks as eps^(1/3)."""
+    v, ph = P.check({}), P.check({}, "polyhedra")
+    assert v["eps"] == [1e-5, 2.5e-6] and v["extrapolation_exponent"] == 1.0
+    assert ph["eps"] == [1e-4, 1e-5] and ph["extrapolation_exponent"] == pytest.approx(1 / 3)
+    assert P.check({"eps": [1e-4]}, "polyhedra")["eps"] == [1e-4]
+    with pytest.raises(ValueError, match="contact"):
+        P.check({}, "spheres")
+
+
 @pytest.mark.parametrize("knobs, word", [
     ({"nonsense": 1}, "unknown"),
     ({"eps": []}, "eps"),
@@ -95,6 +106,9 @@ class FakeModel:
 
     def control_displacement(self, ref):
         return self.held
+
+    def stats(self):
+        return {"penetration_ratio": 0.01}
 
 
 def fake_trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
@@ -201,12 +215,28 @@ def _run(eps, status="collapsed", lo=0.2, hi=0.21, dead=False):
 
 
 def test_assemble_collapsed_extrapolates():
-    p = P.check({})
+    p = P.check({}, "polyhedra")
     dem = assemble({"status": "done", "runs": [_run(1e-4, lo=0.24, hi=0.242), _run(1e-5, lo=0.27, hi=0.272)]}, p)
     assert dem["status"] == "collapsed"
     assert dem["alpha"] == pytest.approx(richardson([1e-4, 1e-5], [0.241, 0.271])["alpha_rigid"])
     assert dem["displacement"] == {"b": [1.0, 0.0, -1.0]}
     assert [h["eps"] for h in dem["history"]] == [1e-4, 1e-5]
+
+
+def test_assemble_vertex_model_extrapolates_linearly_and_fails_on_deep_penetration():
+    """Vertex model: alpha(eps) = alpha_rigid - c eps (r and the penetrations scale with
+    eps): runs 0.2490 at 1e-5 and 0.2497 at 2.5e-6 give 0.2497 + (0.2497 - 0.2490) / 3."""
+    p = P.check({})
+    runs = [_run(1e-5, lo=0.2489, hi=0.2491), _run(2.5e-6, lo=0.2496, hi=0.2498)]
+    dem = assemble({"status": "done", "runs": runs}, p)
+    assert dem["status"] == "collapsed" and dem["alpha"] == pytest.approx(0.2497 + 0.0007 / 3)
+    # an equilibrium whose deepest contact sank past pen_limit x r: the spheres were too small
+    runs[1]["history"] = [{"phase": "load", "alpha": 0.2, "outcome": "stable", "penetration_ratio": 0.45}]
+    deep = assemble({"status": "done", "runs": runs}, p)
+    assert deep["status"] == "failed" and "penetration 0.45" in deep["reason"] and deep.get("alpha") is None
+    # a collapsing trial may sink deeper (impact): only equilibria count
+    runs[1]["history"][0]["outcome"] = "collapse"
+    assert assemble({"status": "done", "runs": runs}, p)["status"] == "collapsed"
 
 
 def test_assemble_failures_and_disagreement():
