@@ -116,7 +116,11 @@ def assemble(raw: dict, p: dict) -> dict:
     bad = _not_asymptotic(eps, alpha, half)
     if bad:
         return failed(bad, **base)
-    fit = richardson(eps, alpha, half, p["extrapolation_exponent"])
+    # with more than two runs the two stiffest are extrapolated (the softer ones may lie outside the
+    # range where alpha approaches the rigid value as eps^p; the vertex model adds runs until they do)
+    last = sorted(range(len(eps)), key=lambda k: eps[k])[:2]
+    fit = richardson([eps[k] for k in last], [alpha[k] for k in last], [half[k] for k in last],
+                     p["extrapolation_exponent"])
     if not np.isfinite(fit["alpha_rigid"]):
         return failed("non-finite extrapolated alpha", **base)
     return {"status": "collapsed", "alpha": fit["alpha_rigid"], "alpha_uncertainty": fit["uncertainty"],

@@ -16,8 +16,9 @@ loads, interfaces), so the YADE side needs no project package:
   kn = rho_g / eps (N/m^3) for each settlement strain eps of ``params["eps"]``.
 * ``params``: the pushover knobs (dem_validation.params).
 * ``contact``: the block model, ``vertex`` (default) or ``polyhedra``. The
-  vertex model also gets ``sphere_radius``, one r (m) per stiffness of
-  ``params["eps"]``, ``point_area`` (m^2, the median interface area per
+  vertex model also gets ``sphere_radius``: ``{"floor": m, "per_eps": m}``,
+  r(eps) = max(floor, per_eps x eps) for a run at settlement strain eps
+  (:func:`sphere_radius`), ``point_area`` (m^2, the median interface area per
   contact point: a 2D interface, a segment times the thickness, has 4
   corners, a 3D one as many as its polygon) and per block ``sphere_dirs``,
   the inset vectors d of its vertices (sphere centre v + r d,
@@ -65,13 +66,20 @@ def yade_blocked(dim: int, blocked) -> str:
 CONTACTS = ("vertex", "polyhedra")
 
 
-def sphere_radius(blocks_vertices, r_rel: float, point_force: float, k_point: float, pen_target: float) -> float:
-    """Vertex sphere radius (m): the larger of ``r_rel`` x Lmin (Lmin: the smallest block's
-    largest extent among the blocks given as (k, 3) vertex arrays, m) and the radius at
-    which the expected largest point force ``point_force`` (N) on a contact of stiffness
-    ``k_point`` (N/m) penetrates ``pen_target`` x r."""
+def sphere_radius(blocks_vertices, r_rel: float, point_force: float, rho_g: float, a_point: float,
+                  pen_target: float) -> dict:
+    """Vertex sphere radius law r(eps) = max(floor, per_eps x eps) (m): the floor is
+    ``r_rel`` x Lmin (Lmin: the smallest block's largest extent among the blocks given as
+    (k, 3) vertex arrays, m); above it, r is the radius at which the expected largest point
+    force ``point_force`` (N) penetrates ``pen_target`` x r into a contact of stiffness
+    k_point = rho_g / eps x a_point (N/m): per_eps = point_force / (rho_g a_point pen_target)."""
     lmin = min(float(np.ptp(v, axis=0).max()) for v in blocks_vertices)
-    return max(r_rel * lmin, point_force / k_point / pen_target)
+    return {"floor": r_rel * lmin, "per_eps": point_force / (rho_g * a_point * pen_target)}
+
+
+def radius_at(law: dict, eps: float) -> float:
+    """r (m) of the law of :func:`sphere_radius` at settlement strain eps."""
+    return max(law["floor"], law["per_eps"] * eps)
 
 
 def expected_point_force(scene, interfaces, f0, fL) -> float:
@@ -114,15 +122,16 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         up = -np.pad(np.asarray(scene.gravity, dtype=float), (0, 3 - scene.dim))
         a_point = point_area(interfaces, scene.dim)
         force = expected_point_force(scene, interfaces, f0, fL)
-        radii = [sphere_radius([verts[i] for i in scene.free] or verts, float(params["vertex_r"]), force,
-                               rho_g(scene) / eps * a_point, float(params["pen_target"])) for eps in params["eps"]]
+        law = sphere_radius([verts[i] for i in scene.free] or verts, float(params["vertex_r"]), force, rho_g(scene),
+                            a_point, float(params["pen_target"]))
+        r_max = radius_at(law, max(params["eps"]))
         for b, v in zip(blocks, verts):
             try:
                 b["sphere_dirs"] = inset_directions(v, up).tolist()
-                check_fit(v, b["sphere_dirs"], max(radii))
+                check_fit(v, b["sphere_dirs"], r_max)
             except ValueError as exc:
                 raise ValueError(f"block {b['id']}: {exc}") from None
-        extra = {"sphere_radius": radii, "point_area": a_point}
+        extra = {"sphere_radius": law, "point_area": a_point}
     return {
         "format": "dem-job/1",
         "contact": contact,

@@ -38,6 +38,9 @@ KNOBS = {
     "rerun_reach": (1.2, "run-away: blocks moved this x farther than before the motion picked up again"),
     "observe_T": (1.0, "equilibrium is not declared before this x T after a load step"),
     "vertex_r": (1e-5, "vertex model: sphere radius / Lmin (the smallest free block's largest extent)"),
+    "refine_rtol": (0.02, "vertex model: when the two stiffest runs differ by more than this (relative), "
+                          "one more run at a quarter of the stiffest eps"),
+    "refine_max": (2, "vertex model: at most this many such extra runs"),
     "pen_target": (0.1, "vertex model: r is at least the expected largest point penetration / pen_target"),
     "pen_limit": (0.3, "vertex model: a run fails when an equilibrium has a contact penetration above this x r"),
     "trial_T": (10.0, "step budget of one load step, in units of T"),
@@ -86,7 +89,7 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
             raise ValueError(f"{k}: must be finite, got {v!r}")
     positive = ("ks_ratio", "cfl", "step0", "alpha_max", "alpha_rtol", "eq_tol", "motion_tol", "creep_disp",
                 "collapse_disp", "checks_per_T", "runaway_T", "trial_T", "extrapolation_exponent", "rebracket",
-                "rerun_floor", "rerun_reach", "vertex_r", "pen_limit", "pen_target")
+                "rerun_floor", "rerun_reach", "vertex_r", "pen_limit", "pen_target", "refine_rtol")
     for k in positive:
         if not p[k] > 0:
             raise ValueError(f"{k}: must be > 0, got {p[k]!r}")
@@ -96,7 +99,7 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
             raise ValueError(f"{k}: must be in [{lo}, {hi}), got {p[k]!r}")
     if p["growth"] < 1:
         raise ValueError(f"growth: must be >= 1, got {p['growth']!r}")
-    for k in ("ramp_T", "observe_T"):
+    for k in ("ramp_T", "observe_T", "refine_max"):
         if p[k] < 0:
             raise ValueError(f"{k}: must be >= 0, got {p[k]!r}")
     if p["rebracket"] < 1:

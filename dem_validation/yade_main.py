@@ -21,11 +21,20 @@ import pushover  # noqa: E402  (a sibling module, importable without the project
 import yade_model  # noqa: E402
 
 
+def _apart(soft, stiff, p):
+    """True when two collapsed runs differ by more than refine_rtol (relative)."""
+    if soft["status"] != "collapsed" or stiff["status"] != "collapsed" or not stiff.get("alpha"):
+        return False
+    return abs(stiff["alpha"] - soft["alpha"]) > float(p["refine_rtol"]) * abs(stiff["alpha"])
+
+
 def run_pushovers(job, eps_list, p):
     """(model, runs): the pushover at every stiffness. Polyhedra (``contact: polyhedra``):
     one model, a stiffer run restarts from a softer run's equilibrium. Vertex model (the
     default): each stiffness has its own sphere radius, so each is a new model loaded from
-    scratch (also one loading path for every stiffness, where friction makes the path matter)."""
+    scratch (also one loading path for every stiffness, where friction makes the path matter);
+    while the two stiffest runs differ by more than refine_rtol, one more run at a quarter of
+    the stiffest eps (at most refine_max more)."""
     contact = job.get("contact", "vertex")
     if contact == "polyhedra":
         import yade_polyhedra
@@ -38,14 +47,22 @@ def run_pushovers(job, eps_list, p):
     import yade_vertex
 
     runs = []
-    for k, eps in enumerate(eps_list):
+    eps_list = list(eps_list)
+    extra = 0
+    k = 0
+    while k < len(eps_list):
+        eps = eps_list[k]
         if k:
             yade_model.O.reset()
-        model = yade_vertex.VertexModel(job, k)
+        model = yade_vertex.VertexModel(job, eps)
         emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
         run = pushover.pushover(model, [eps], p, emit=emit)[0]
         run["sphere_radius"] = model.r
         runs.append(run)
+        k += 1
+        if k == len(eps_list) and len(runs) >= 2 and extra < int(p["refine_max"]) and _apart(runs[-2], runs[-1], p):
+            eps_list.append(eps / 4.0)  # the two stiffest runs are not yet close: one stiffer run
+            extra += 1
     return model, runs
 
 

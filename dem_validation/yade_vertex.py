@@ -41,15 +41,17 @@ SPHERE_MASS = 1e-12
 class VertexModel(BlockModel):
     """Clumps of one polyhedron and its vertex spheres; ``self.bid[i]`` is block i's clump."""
 
-    def __init__(self, job, run=0):
-        """The model for the ``run``-th stiffness of ``job["params"]["eps"]`` (its own r)."""
+    def __init__(self, job, eps):
+        """The model at settlement strain ``eps``, with its own sphere radius
+        r = max(floor, per_eps x eps) (``job["sphere_radius"]``)."""
         super().__init__(job)
-        self.r = float(job["sphere_radius"][run])
+        law = job["sphere_radius"]
+        self.r = max(float(law["floor"]), float(law["per_eps"]) * float(eps))
         self.a_point = float(job["point_area"])
         self.pen_max = 0.0  # largest penetration / r seen at the last measure
         self._build()
         self._engines()
-        self.set_stiffness(float(self.p["eps"][run]))
+        self.set_stiffness(float(eps))
         self.set_alpha(0.0)
 
     # ------------------------------------------------------------------ set-up

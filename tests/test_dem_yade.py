@@ -136,7 +136,7 @@ def test_vertex_law_takes_torques_about_the_contact_points(tmp_path):
         f"sys.path.insert(0, {str(Path(dem_validation.__file__).parent)!r})\n"
         "import yade_vertex\n"
         "job = json.load(open(sys.argv[1]))\n"
-        "m = yade_vertex.VertexModel(job, 0)\n"
+        "m = yade_vertex.VertexModel(job, job['params']['eps'][0])\n"
         "out = os.path.join(os.path.dirname(sys.argv[1]), job['result'])\n"
         "json.dump({'status': 'done', 'runs': [], 'spherical': bool(m.law.sphericalBodies)}, open(out, 'w'))\n"
         "os._exit(0)\n")
