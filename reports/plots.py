@@ -8,6 +8,9 @@
   3D scenes as axonometric views.
 * :func:`alpha_chart`: alpha per scene and method beside the reference.
 * :func:`time_error`: run time against error per method.
+* :func:`capacity_figure`: the DEM pushover curve of one scene, alpha against
+  the control displacement (the live load's work-conjugate displacement), one
+  line per contact stiffness, beside the limit analysis's alpha.
 """
 from __future__ import annotations
 
@@ -216,3 +219,49 @@ def time_error(df, path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
+
+
+def capacity_points(dem: dict) -> dict:
+    """{eps: (control (m), alpha) arrays} of the DEM's equilibria, in load order, and the
+    collapse: {eps: alpha_hi} under the key "collapse"; from the ``history`` records (load
+    steps ending stable; settling counts as alpha = 0)."""
+    curves, collapse = {}, {}
+    for h in dem.get("history") or []:
+        eps = h.get("eps")
+        if h.get("outcome") == "stable" and h.get("control") is not None and h.get("phase") != "re-stiffen":
+            curves.setdefault(eps, []).append((float(h["control"]), float(h["alpha"])))
+        elif h.get("outcome") == "collapse":
+            collapse[eps] = min(collapse.get(eps, np.inf), float(h["alpha"]))
+    out = {}
+    for eps, pts in curves.items():
+        pts = sorted(pts, key=lambda q: q[1])  # bisection visits alphas out of order: by load
+        out[eps] = (np.array([q[0] for q in pts]), np.array([q[1] for q in pts]))
+    return {"curves": out, "collapse": collapse}
+
+
+def capacity_figure(dem: dict | None, la_alpha, path, title="") -> bool:
+    """alpha against the control displacement (mm) of every DEM run; a dashed line at the
+    limit analysis's alpha (frictional where it ran) and one at the DEM's extrapolated alpha.
+    False (no figure) when the DEM has no equilibrium to draw."""
+    pts = capacity_points(dem or {})
+    if not pts["curves"]:
+        return False
+    fig, ax = plt.subplots(figsize=(6.0, 3.8))
+    for k, (eps, (u, a)) in enumerate(sorted(pts["curves"].items(), key=lambda q: -q[0])):
+        line, = ax.plot(1e3 * u, a, "o-", ms=3.5, lw=1.2, label=f"DEM equilibria, eps = {eps:.2g}")
+        hi = pts["collapse"].get(eps)
+        if hi is not None and np.isfinite(hi) and len(u):
+            ax.plot([1e3 * u[-1]], [hi], "x", color=line.get_color(), ms=8, mew=2)
+    if la_alpha is not None and np.isfinite(la_alpha):
+        ax.axhline(la_alpha, color=COLORS["nlp"], ls="--", lw=1.2, label=f"limit analysis {la_alpha:.4g}")
+    if dem.get("alpha") is not None:
+        ax.axhline(dem["alpha"], color=COLORS["dem"], ls=":", lw=1.2, label=f"DEM, rigid contacts {dem['alpha']:.4g}")
+    ax.set_xlabel("control displacement (mm): live-load work / |live load|")
+    ax.set_ylabel("load factor alpha")
+    ax.set_title(("DEM pushover curve" + (f": {title}" if title else "")) + " (x: first collapse)", fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return True

@@ -74,6 +74,22 @@ def la_mechanism(la: dict):
     return lp.get("mechanism"), "lp"
 
 
+def dem_model_text(dem: dict) -> str:
+    """One sentence on the DEM's contact model, its runs and how it treats the rounding."""
+    runs = [r for r in dem.get("runs") or [] if r.get("alpha") is not None]
+    if not runs:
+        return ""
+    raw = ", ".join(f"{r['alpha']:.4g} at eps {r['eps']:.2g}" for r in runs)
+    if dem.get("contact", "vertex") == "vertex":
+        radii = ", ".join(f"{1e3 * r['sphere_radius']:.3g}" for r in runs if r.get("sphere_radius"))
+        pen = dem.get("penetration_ratio")
+        return (f"Vertex-to-face model: runs {raw}; vertex spheres r = {radii} mm (r scales with eps, so the "
+                "extrapolation to eps = 0 also removes the corner rounding: the DEM alpha is corrected for the "
+                "rounding, not compared with a rounded geometry)"
+                + (f"; deepest contact at an equilibrium {pen:.2f} r" if pen is not None else "") + ".")
+    return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."
+
+
 def row(path: Path, la: dict | None, dem: dict | None) -> dict:
     from limit.scene import load_scene
 
@@ -105,7 +121,8 @@ def row(path: Path, la: dict | None, dem: dict | None) -> dict:
     r["fric_alpha"] = min(fric) if fric else None
     dem = dem or {}
     r.update(dem_status=dem.get("status"), dem_alpha=dem.get("alpha"), dem_time_s=dem.get("time_s"),
-             dem_reason=dem.get("reason", dem.get("note", "")), dem_uncertainty=dem.get("alpha_uncertainty"))
+             dem_reason=dem.get("reason", dem.get("note", "")), dem_uncertainty=dem.get("alpha_uncertainty"),
+             dem_dead=bool(dem.get("dead_load_collapse")), dem_model=dem_model_text(dem))
     # The LP is compared with alpha_lp, or with the frictional alpha where the NLP found the LP
     # mechanism frictional already (skipped).
     lp_ref = exp.get("alpha_lp")

@@ -92,17 +92,15 @@ def test_dem_fault_is_failed_in_red_and_not_cached(run):
     opted_out = {n for n in SCENES
                  if not ((json.loads(open(f"scenes/catalog/{n}.json").read()).get("meta") or {}).get("dem") or {})
                  .get("run", True)}
-    assert opted_out == {"paper-fig5-trilithic-3d"}
+    assert opted_out == set()  # every catalog scene runs the DEM in make validate
     ran = df[~df.name.isin(opted_out)]
     assert set(ran.dem_status) == {"failed"}
     assert all("yade" in str(x).lower() for x in ran.dem_reason)
-    skipped = df[df.name.isin(opted_out)]
-    assert set(skipped.dem_status) == {"skipped"} and all("skipped in make validate" in r for r in skipped.dem_reason)
     html = (tmp / "out" / "index.html").read_text()
     assert len(re.findall(r"<td class='failed'>failed</td>", html)) == len(ran)
     assert "**failed**" in (tmp / "out" / "index.md").read_text()
-    # failures are retried next time, never cached (an opt-out is a result and is kept)
-    assert sorted(p.name.rsplit("-", 1)[0] for p in (tmp / "cache").glob("dem/*.json")) == sorted(opted_out)
+    # failures are retried next time, never cached
+    assert not list((tmp / "cache").glob("dem/*.json"))
     # ... but each failure is kept whole for diagnosis, and the run's log says where
     kept = sorted((tmp / "cache" / "failed" / "dem").glob("*.json"))
     assert sorted(p.name.rsplit("-", 2)[0] for p in kept) == sorted(ran.name)
@@ -169,3 +167,32 @@ def test_failure_copy_that_cannot_be_written_does_not_stop_the_run(tmp_path, mon
     assert "full result not kept: No space left on device" in capsys.readouterr().err
     df = pd.read_csv(tmp_path / "out" / "results.csv")
     assert list(df.dem_status) == ["failed"] and list(df.lp_status) == ["optimal"]
+
+
+def test_dem_opt_out_is_reported_as_skipped_with_its_reason():
+    """A user's scene may still opt out of the DEM (``meta.dem.run: false``); the catalog
+    no longer does (test_dem_fault_is_failed_in_red_and_not_cached)."""
+    from reports.stages import dem_options, run_dem
+
+    opts = dem_options({"meta": {"dem": {"run": False, "reason": "too large for this machine"}}})
+    res = run_dem("unused.json", opts)
+    assert res["status"] == "skipped" and res["alpha"] is None and res["reason"] == "too large for this machine"
+
+
+def test_capacity_curve_points_follow_the_load_order():
+    """Bisection visits alphas out of order (0.2, then 0.4 collapses, then 0.3 holds): the
+    curve is the equilibria sorted by load, per stiffness, and the first collapse is the
+    lowest collapsing alpha; a re-stiffening record is not a point of the curve."""
+    from reports.plots import capacity_figure, capacity_points
+
+    hist = [{"eps": 1e-5, "phase": "settle", "alpha": 0.0, "outcome": "stable", "control": 0.0},
+            {"eps": 1e-5, "phase": "load", "alpha": 0.2, "outcome": "stable", "control": 1e-4},
+            {"eps": 1e-5, "phase": "load", "alpha": 0.4, "outcome": "collapse", "control": 9e-3},
+            {"eps": 1e-5, "phase": "bisect", "alpha": 0.3, "outcome": "stable", "control": 2e-4},
+            {"eps": 1e-5, "phase": "bisect", "alpha": 0.35, "outcome": "collapse", "control": 8e-3},
+            {"eps": 2e-6, "phase": "re-stiffen", "alpha": 0.2, "outcome": "stable", "control": 1e-4}]
+    pts = capacity_points({"history": hist})
+    u, a = pts["curves"][1e-5]
+    assert list(a) == [0.0, 0.2, 0.3] and list(u) == [0.0, 1e-4, 2e-4]
+    assert pts["collapse"] == {1e-5: 0.35} and 2e-6 not in pts["curves"]
+    assert not capacity_figure({"history": []}, 0.3, "unused.png")  # nothing to draw: no figure
