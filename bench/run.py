@@ -1,13 +1,13 @@
 """``make bench``: runs every benchmark and writes its figures to bench/out/.
 
-``python -m bench.run [names...]`` runs only the named ones (interfaces, lp, nlp, dem).
+``python -m bench.run [names...]`` runs only the named ones (interfaces, lp, nlp, dem, dem_models).
 """
 from __future__ import annotations
 
 import importlib
 import sys
 
-BENCHES = ["interfaces", "lp", "nlp", "dem"]
+BENCHES = ["interfaces", "lp", "nlp", "dem", "dem_models"]
 
 
 def main(argv=None) -> int:

@@ -70,7 +70,10 @@ def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep
                 "time_s": 0.0, "params": used}
     I = find_interfaces(scene) if interfaces is None else interfaces
     f0, fL = dead_and_live(scene)
-    job = build_job(scene, I, f0, fL, p, contact=contact)
+    try:
+        job = build_job(scene, I, f0, fL, p, contact=contact)
+    except ValueError as exc:  # e.g. vertex spheres that do not fit a block at these knobs
+        return failed(f"cannot build the DEM model: {exc}", time_s=time.monotonic() - t0, params=used)
     raw = run_job(job, yade=yade, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
     out = assemble(raw, p)
     out["time_s"] = time.monotonic() - t0
