@@ -59,6 +59,13 @@ def _reason(stage: str, res: dict) -> str:
     return "; ".join(why) or "no reason given"
 
 
+def dem_cost(data: dict) -> float:
+    """Rough relative cost of a scene's DEM stage (its free blocks, a 3D block counted as 3):
+    the longest stages are started first, so the short ones fill the cores at the end."""
+    free = sum(1 for b in data.get("blocks", []) if not b.get("fixed"))
+    return free * (3.0 if data.get("dim") == 3 else 1.0)
+
+
 def _run_task(stage, data, opts):
     return STAGES[stage][1](data, opts)
 
@@ -81,10 +88,11 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
         client = Client(cluster)
     try:
         futures = {}
-        # Longest first: DEM stages, then the limit analyses.
-        for stage, name, k, data, opts in sorted(todo, key=lambda t: t[0] != "dem"):
+        # Longest first: DEM stages by their estimated cost, then the limit analyses.
+        order = sorted(todo, key=lambda t: (t[0] != "dem", -dem_cost(t[3]) if t[0] == "dem" else 0.0))
+        for rank, (stage, name, k, data, opts) in enumerate(order):
             f = client.submit(_run_task, stage, data, opts, key=f"{stage}-{name}-{k}", pure=False,
-                              priority=10 if stage == "dem" else 0)
+                              priority=len(order) - rank)
             futures[f] = (stage, name, k)
         bar = tqdm(total=len(futures), unit="stage", disable=not progress, file=sys.stderr)
         for f in as_completed(futures):
