@@ -24,6 +24,8 @@ KNOBS = {
     "rebracket": (1.3, "first load step at stiffer contacts: to this x the softer contacts' alpha_hi"),
     "restep": (0.1, "further load steps at stiffer contacts, as a fraction of the softer alpha"),
     "restart_frac": (0.9, "stiffer contacts restart from an equilibrium at or below this x the softer alpha"),
+    "jump_ramp_T": (1.0, "vertex model: a stiffer run's first load step (to restart_frac x the softer run's "
+                         "alpha) is ramped over this x T"),
     "alpha_max": (10.0, "give up (status stable) when alpha reaches this without collapse"),
     "alpha_rtol": (0.005, "bisection stops when (hi - lo) <= alpha_rtol x hi"),
     "eq_tol": (1e-3, "equilibrium: out-of-balance force and moment / (the block's load + its contact forces)"),
@@ -99,7 +101,7 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
             raise ValueError(f"{k}: must be in [{lo}, {hi}), got {p[k]!r}")
     if p["growth"] < 1:
         raise ValueError(f"growth: must be >= 1, got {p['growth']!r}")
-    for k in ("ramp_T", "observe_T", "refine_max"):
+    for k in ("ramp_T", "observe_T", "refine_max", "jump_ramp_T"):
         if p[k] < 0:
             raise ValueError(f"{k}: must be >= 0, got {p[k]!r}")
     if p["rebracket"] < 1:

@@ -140,8 +140,10 @@ class Search:
         self.base = base
         self.equilibria = []  # (alpha, snapshot) of every equilibrium reached by a load step
 
-    def run(self, a_from, a_to, phase, rerun=True):
-        t = trial(self.model, a_from, a_to, self.p, self.clock, self.steps, rerun)
+    def run(self, a_from, a_to, phase, rerun=True, ramp_T=None):
+        """One trial; ``ramp_T`` (x T) overrides the knob of that name for this trial."""
+        p = self.p if ramp_T is None else dict(self.p, ramp_T=max(self.p["ramp_T"], ramp_T))
+        t = trial(self.model, a_from, a_to, p, self.clock, self.steps, rerun)
         self.steps += t["steps"]
         rec = {"phase": phase, "alpha": a_to, "outcome": t["outcome"], "why": t["why"], "steps": t["steps"],
                "residual": t["residual"], "motion": t["motion"]}
@@ -151,29 +153,32 @@ class Search:
         self.history.append(rec)
         return t
 
-    def bracket(self, lo, step, first=None):
-        """Raise alpha from the equilibrium at ``lo`` (first to ``first`` when given, then
-        by ``step``, growing by ``growth`` after each equilibrium) until a collapse, then
-        bisect. Returns (lo, hi, collapse displacements of the last collapsing trial);
-        hi is None when alpha_max was reached without collapse."""
+    def bracket(self, lo, step, first=None, first_ramp_T=None):
+        """Raise alpha from the equilibrium at ``lo`` (first to ``first`` when given - ramped
+        over ``first_ramp_T`` x T when given -, then by ``step``, growing by ``growth`` after
+        each equilibrium) until a collapse, then bisect. Returns (lo, hi, collapse
+        displacements of the last collapsing trial); hi is None when alpha_max was reached
+        without collapse."""
         p, model = self.p, self.model
         collapse = hi = None
         while True:
+            ramp = None
             if hi is not None:
                 if hi - lo <= p["alpha_rtol"] * hi:
                     break
                 a, phase = 0.5 * (lo + hi), "bisect"
             elif first is not None and first > lo:
-                a, phase, first = min(first, p["alpha_max"]), "load", None
+                a, phase, first, ramp = min(first, p["alpha_max"]), "load", None, first_ramp_T
             else:
                 if lo >= p["alpha_max"]:
                     break
                 a, phase = min(lo + step, p["alpha_max"]), "load"
-            t = self.run(lo, a, phase)
+            t = self.run(lo, a, phase, ramp_T=ramp)
             if t["outcome"] == STABLE:
                 lo = a
                 self.equilibria.append((a, model.snapshot()))
-                if hi is None and phase == "load" and a > t["ref"]["alpha"] + 0.999 * step:
+                # a full step (not one cut at alpha_max, not the first jump) lets the step grow
+                if hi is None and phase == "load" and ramp is None and a > t["ref"]["alpha"] + 0.999 * step:
                     step *= p["growth"]
             else:
                 collapse = model.displacements(t["ref"])
@@ -182,7 +187,7 @@ class Search:
         return lo, hi, collapse
 
 
-def pushover(model, eps_list, p, emit=None):
+def pushover(model, eps_list, p, emit=None, hint=None):
     """Bracket alpha at each settlement strain of ``eps_list`` (softest first).
 
     The first stiffness starts from the unloaded scene: settle under the dead load,
@@ -194,7 +199,10 @@ def pushover(model, eps_list, p, emit=None):
     goes to ``rebracket`` x the previous alpha_hi (stiffer contacts carry more),
     further ones by ``restep`` x the previous alpha_lo. When
     there is no such state or it does not hold, that stiffness starts again from
-    the unloaded scene. Returns one dict per stiffness: eps, status
+    the unloaded scene. ``hint`` = (alpha_lo, alpha_hi) of a softer run made elsewhere
+    (the vertex model's runs are separate models): a from-scratch start then goes
+    straight to ``restart_frac`` x alpha_lo, ramped over ``jump_ramp_T`` x T (no dynamic
+    overshoot), and on by ``restep`` x alpha_lo. Returns one dict per stiffness: eps, status
     (collapsed|stable), alpha (bracket midpoint, None unless collapsed), alpha_lo,
     alpha_hi, dead_load_collapse, history, steps, collapse (per free block
     (u, rotation) over the last collapsing trial, from the last equilibrium), dt, kn.
@@ -233,6 +241,8 @@ def pushover(model, eps_list, p, emit=None):
             search.history[-1]["control"] = 0.0
             search.equilibria.append((0.0, search.base))
             start = (0.0, p["step0"], None)
+            if hint is not None and prev is None and hint[0] and hint[0] > 0:
+                start = (0.0, max(p["restep"] * hint[0], 1e-9), p["restart_frac"] * hint[0], p["jump_ramp_T"])
         lo, hi, collapse = search.bracket(*start)
         res = _result(eps, model, search, "stable" if hi is None else "collapsed", lo, hi, False, collapse)
         out.append(res)

@@ -32,7 +32,8 @@ def run_pushovers(job, eps_list, p):
     """(model, runs): the pushover at every stiffness. Polyhedra (``contact: polyhedra``):
     one model, a stiffer run restarts from a softer run's equilibrium. Vertex model (the
     default): each stiffness has its own sphere radius, so each is a new model loaded from
-    scratch (also one loading path for every stiffness, where friction makes the path matter);
+    scratch (also one loading path for every stiffness, where friction makes the path matter)
+    whose first load step goes near the softer run's collapse;
     while the two stiffest runs differ by more than refine_rtol, one more run at a quarter of
     the stiffest eps (at most refine_max more)."""
     contact = job.get("contact", "vertex")
@@ -56,7 +57,9 @@ def run_pushovers(job, eps_list, p):
             yade_model.O.reset()
         model = yade_vertex.VertexModel(job, eps)
         emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
-        run = pushover.pushover(model, [eps], p, emit=emit)[0]
+        prev = runs[-1] if runs and runs[-1]["status"] == "collapsed" and runs[-1].get("alpha_lo") else None
+        hint = (prev["alpha_lo"], prev["alpha_hi"]) if prev else None
+        run = pushover.pushover(model, [eps], p, emit=emit, hint=hint)[0]
         run["sphere_radius"] = model.r
         runs.append(run)
         k += 1

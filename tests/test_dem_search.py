@@ -158,9 +158,9 @@ def _flaky_restiffen(monkeypatch, fail_restiffens, settle_misread):
     state = {"phase": None, "restiffen": 0, "settles": 0}
     run = pushover.Search.run
 
-    def tracked_run(self, a_from, a_to, phase, rerun=True):
+    def tracked_run(self, a_from, a_to, phase, rerun=True, ramp_T=None):
         state["phase"] = phase
-        return run(self, a_from, a_to, phase, rerun)
+        return run(self, a_from, a_to, phase, rerun, ramp_T)
 
     def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
         ref = model.snapshot()
@@ -177,6 +177,27 @@ def _flaky_restiffen(monkeypatch, fail_restiffens, settle_misread):
 
     monkeypatch.setattr(pushover.Search, "run", tracked_run)
     monkeypatch.setattr(pushover, "trial", trial)
+
+
+def test_a_hinted_run_goes_straight_near_the_softer_collapse(monkeypatch):
+    """A stiffer vertex-model run built afresh, told the softer run collapsed in
+    [0.26, 0.262]: after settling, one ramped load step to restart_frac x 0.26, then steps
+    of restep x 0.26, then bisection; the bracket must still contain alpha_c(eps)."""
+    seen = []
+
+    def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
+        seen.append((a_to, p["ramp_T"]))
+        return fake_trial(model, a_from, a_to, p, clock, steps_before, rerun)
+
+    monkeypatch.setattr(pushover, "trial", trial)
+    p = P.check({"eps": [1e-5]})
+    run = pushover.pushover(FakeModel(), p["eps"], p, hint=(0.26, 0.262))[0]
+    crit = 0.3 - 1.2 * 1e-5 ** (1 / 3)
+    assert run["alpha_lo"] <= crit < run["alpha_hi"] and run["alpha_hi"] - run["alpha_lo"] <= 0.005 * run["alpha_hi"]
+    assert seen[0] == (0.0, 0.0)                                   # settle, no ramp
+    assert seen[1] == (pytest.approx(0.9 * 0.26), p["jump_ramp_T"])  # the jump, ramped
+    assert seen[2] == (pytest.approx(0.9 * 0.26 + 0.026), 0.0)      # then restep x alpha_lo
+    assert len(seen) < 12  # fewer trials than from 0.05 upwards
 
 
 def test_a_failed_restiffening_tries_the_next_lower_equilibrium(monkeypatch):
