@@ -28,6 +28,8 @@ KNOBS = {
                          "alpha) is ramped over this x T"),
     "alpha_max": (10.0, "give up (status stable) when alpha reaches this without collapse"),
     "alpha_rtol": (0.005, "bisection stops when (hi - lo) <= alpha_rtol x hi"),
+    "alpha_rtol_soft": (0.015, "vertex model: the same for every run but the stiffest planned one (its alpha "
+                               "enters the extrapolation with 1/3 of the weight)"),
     "eq_tol": (1e-3, "equilibrium: out-of-balance force and moment / (the block's load + its contact forces)"),
     "motion_tol": (0.02, "equilibrium: block motion per check window / (eps L)"),
     "creep_disp": (0.05, "run-away needs a motion over creep_disp x eps^(1/3) x L"),
@@ -40,7 +42,7 @@ KNOBS = {
     "rerun_reach": (1.2, "run-away: blocks moved this x farther than before the motion picked up again"),
     "observe_T": (1.0, "equilibrium is not declared before this x T after a load step"),
     "vertex_r": (1e-5, "vertex model: sphere radius / Lmin (the smallest free block's largest extent)"),
-    "refine_rtol": (0.02, "vertex model: when the two stiffest runs differ by more than this (relative), "
+    "refine_rtol": (0.05, "vertex model: when the two stiffest runs differ by more than this (relative), "
                           "one more run at a quarter of the stiffest eps"),
     "refine_max": (2, "vertex model: at most this many such extra runs"),
     "pen_target": (0.1, "vertex model: r is at least the expected largest point penetration / pen_target"),
@@ -89,7 +91,8 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
             raise ValueError(f"{k}: expected a number, got {v!r}") from None
         if not math.isfinite(p[k]):
             raise ValueError(f"{k}: must be finite, got {v!r}")
-    positive = ("ks_ratio", "cfl", "step0", "alpha_max", "alpha_rtol", "eq_tol", "motion_tol", "creep_disp",
+    positive = ("ks_ratio", "cfl", "step0", "alpha_max", "alpha_rtol", "alpha_rtol_soft", "eq_tol", "motion_tol",
+                "creep_disp",
                 "collapse_disp", "checks_per_T", "runaway_T", "trial_T", "extrapolation_exponent", "rebracket",
                 "rerun_floor", "rerun_reach", "vertex_r", "pen_limit", "pen_target", "refine_rtol")
     for k in positive:

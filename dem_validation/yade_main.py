@@ -59,7 +59,9 @@ def run_pushovers(job, eps_list, p):
         emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
         prev = runs[-1] if runs and runs[-1]["status"] == "collapsed" and runs[-1].get("alpha_lo") else None
         hint = (prev["alpha_lo"], prev["alpha_hi"]) if prev else None
-        run = pushover.pushover(model, [eps], p, emit=emit, hint=hint)[0]
+        # a softer run only sets the extrapolation's slope (weight 1/3): a wider bracket will do
+        pk = p if k == len(eps_list) - 1 else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
+        run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint)[0]
         run["sphere_radius"] = model.r
         runs.append(run)
         k += 1

@@ -83,6 +83,12 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
         client = Client(scheduler)
     else:
         n = jobs or os.cpu_count() or 1
+        import dask
+
+        # one task per worker at a time, the rest queued at the scheduler in priority order
+        # (with the default 1.1 each worker took a second task early, and the longest DEM
+        # stages started late)
+        dask.config.set({"distributed.scheduler.worker-saturation": 1.0})
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                                silence_logs=40)
         client = Client(cluster)
