@@ -76,7 +76,7 @@ def _one(name: str, model: str) -> dict:
     capped = dem["status"] == "failed" and "timed out" in str(dem.get("reason", ""))
     steps = dem.get("steps") or last["step"]
     return {"scene": name, "model": model, "status": dem["status"], "alpha": dem.get("alpha"),
-            "time_s": wall, "capped": capped, "steps": steps,
+            "time_s": wall, "cpu_s": dem.get("cpu_s", float("nan")), "capped": capped, "steps": steps,
             "ms_per_step": 1e3 * wall / steps if steps else float("nan"),
             "runs": "/".join(f"{r['alpha']:.5f}" for r in dem.get("runs", []) if r.get("alpha") is not None),
             "reason": dem.get("reason", "")}

@@ -130,6 +130,7 @@ def main(argv):
     except yade_model.NonFiniteState as exc:
         res.update(status="failed", reason=f"NaN/Inf in the DEM state at step {yade_model.O.iter}: {exc}")
     res["time_s"] = time.time() - t0
+    res["cpu_s"] = time.process_time()  # CPU seconds of the YADE process: comparable under load
     res["steps_total"] = sum(int(r.get("steps", 0)) for r in res["runs"]) or int(yade_model.O.iter)
     write_result(out, res)
     return 0
