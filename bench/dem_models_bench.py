@@ -14,9 +14,8 @@ frictional step is not needed). Writes bench/out/dem_models.csv and
 dem_models.md (time, alpha, error against the reference, steps, ms per step,
 speed-up; the median speed-up) and dem_models.png (time per scene, log).
 
-Time is the YADE process's CPU time (``cpu_s``), which stays comparable when
-the machine is shared; a capped run has none, and its wall-clock cap stands in
-as a lower bound.
+Time is the YADE process's CPU time (``cpu_s``, read from /proc when a capped
+run is killed), which stays comparable when the machine is shared.
 """
 from __future__ import annotations
 

@@ -102,8 +102,9 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             th.join(timeout=5)
         elapsed = time.monotonic() - t0
         if timed_out:
+            cpu = getattr(proc, "cpu_at_kill", None)
             return failed(f"timed out after {elapsed:.1f} s (time limit {timeout_s:g} s); YADE was killed",
-                          time_s=elapsed)
+                          time_s=elapsed, **({"cpu_s": cpu} if cpu is not None else {}))
         rc = proc.returncode
         result_path = work / "result.json"
         if rc != 0 or not result_path.exists():
@@ -162,7 +163,17 @@ def _pump(proc, q, progress, t0, timeout_s) -> bool:
                 pass
 
 
+def process_cpu_s(pid: int) -> float | None:
+    """CPU seconds (user + system) used so far by process ``pid`` (Linux /proc), or None."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 def _kill(proc):
+    proc.cpu_at_kill = process_cpu_s(proc.pid)
     try:
         os.killpg(proc.pid, signal.SIGKILL)
     except (ProcessLookupError, PermissionError):

@@ -290,6 +290,7 @@ def test_yade_hang_past_the_time_limit_is_failed_and_killed(tmp_path):
     # the real YADE stopped by a time limit shorter than the run
     dem = run_scene(B.stack(3, 2, 0.3, 0.5, mu=0.8), timeout_s=4)
     assert dem["status"] == "failed" and "timed out" in dem["reason"] and dem.get("alpha") is None
+    assert 0 < dem["cpu_s"] <= dem["time_s"] + 1.0  # the CPU it had used when it was killed
 
 
 def test_nan_in_the_simulation_is_failed():
