@@ -101,6 +101,11 @@ def assemble(raw: dict, p: dict) -> dict:
             return failed(f"contact penetration {max(pens):.2g} x r at an equilibrium, above pen_limit = "
                           f"{p['pen_limit']:g}: the vertex spheres are too small for these contact forces "
                           "(raise vertex_r or the stiffness)", **base)
+    # with more than two runs only the two stiffest decide: the softer ones may lie outside the range
+    # where alpha approaches the rigid value (a soft arch sags under its own weight), and the vertex
+    # model adds stiffer runs until the two stiffest agree
+    all_runs, runs = runs, sorted(runs, key=lambda r: -r["eps"])[-2:]
+    base["runs_used"] = [r["eps"] for r in runs]
     kinds = ["collapsed under the dead load" if r.get("dead_load_collapse") else r["status"] for r in runs]
     if len(set(kinds)) > 1:
         return failed("the contact stiffnesses disagree: " + ", ".join(
@@ -108,7 +113,7 @@ def assemble(raw: dict, p: dict) -> dict:
     if runs[0].get("dead_load_collapse"):
         return {"status": "collapsed", "alpha": None, "dead_load_collapse": True,
                 "note": "collapses under the dead load alone (alpha <= 0)",
-                "displacement": runs[-1].get("displacement"), **base}
+                "displacement": all_runs[-1].get("displacement"), **base}
     if kinds[0] == "stable":
         return {"status": "stable", "alpha": None,
                 "note": f"no collapse up to alpha_max = {p['alpha_max']:g}", **base}
@@ -120,11 +125,7 @@ def assemble(raw: dict, p: dict) -> dict:
     bad = _not_asymptotic(eps, alpha, half)
     if bad:
         return failed(bad, **base)
-    # with more than two runs the two stiffest are extrapolated (the softer ones may lie outside the
-    # range where alpha approaches the rigid value as eps^p; the vertex model adds runs until they do)
-    last = sorted(range(len(eps)), key=lambda k: eps[k])[:2]
-    fit = richardson([eps[k] for k in last], [alpha[k] for k in last], [half[k] for k in last],
-                     p["extrapolation_exponent"])
+    fit = richardson(eps, alpha, half, p["extrapolation_exponent"])
     if not np.isfinite(fit["alpha_rigid"]):
         return failed("non-finite extrapolated alpha", **base)
     return {"status": "collapsed", "alpha": fit["alpha_rigid"], "alpha_uncertainty": fit["uncertainty"],

@@ -33,7 +33,10 @@ A *trial* raises alpha from the last equilibrium to a target (linearly over
 On collapse the model goes back to the last equilibrium and the search
 bisects, until hi - lo <= ``alpha_rtol`` x hi. L (m) is the mean free block
 size, H (m) the size of the free part of the scene, T = sqrt(H / |g|) (s);
-motions are translation plus rotation x block radius (m).
+motions are translation plus rotation x block radius (m). The strain eps in these
+limits is the model's ``detect_eps`` where it has one (the vertex model: the softest
+run's, so that a stiffer run, whose frictional slips are no smaller, does not read a
+sub-millimetre rearrangement as a run-away), else its contact strain.
 """
 from __future__ import annotations
 
@@ -67,15 +70,16 @@ def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
     since the start), ref (snapshot at the start).
     """
     length, dt, T = model.length, model.dt, model.time_scale
-    collapse_disp = p["collapse_disp"] * model.eps ** (1.0 / 3.0) * model.size
-    creep_disp = p["creep_disp"] * model.eps ** (1.0 / 3.0) * length
-    motion_tol = p["motion_tol"] * model.eps * length
+    e = getattr(model, "detect_eps", None) or model.eps  # the strain that scales the motion limits
+    collapse_disp = p["collapse_disp"] * e ** (1.0 / 3.0) * model.size
+    creep_disp = p["creep_disp"] * e ** (1.0 / 3.0) * length
+    motion_tol = p["motion_tol"] * e * length
     chk = max(1, int(round(T / dt / p["checks_per_T"])))
     ramp = int(round(p["ramp_T"] * T / dt))
     budget = max(chk, int(round(p["trial_T"] * T / dt)))
     observe = int(round(p["observe_T"] * T / dt))
     k_run = max(3, int(math.ceil(p["runaway_T"] * T / (chk * dt))))
-    rerun_floor = p["rerun_floor"] * model.eps * length
+    rerun_floor = p["rerun_floor"] * e * length
     ref = model.snapshot()
     prev = ref
     steps, res, d = 0, math.inf, 0.0

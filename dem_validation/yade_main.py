@@ -22,8 +22,13 @@ import yade_model  # noqa: E402
 
 
 def _apart(soft, stiff, p):
-    """True when two collapsed runs differ by more than refine_rtol (relative)."""
-    if soft["status"] != "collapsed" or stiff["status"] != "collapsed" or not stiff.get("alpha"):
+    """True when two runs disagree: of different kinds (one collapsed under the dead load,
+    or stood, where the other collapsed under load), or collapsed at alphas more than
+    refine_rtol apart (relative)."""
+    kind = lambda r: "dead" if r.get("dead_load_collapse") else r["status"]  # noqa: E731
+    if kind(soft) != kind(stiff):
+        return True
+    if kind(stiff) != "collapsed" or soft.get("alpha") is None or not stiff.get("alpha"):
         return False
     return abs(stiff["alpha"] - soft["alpha"]) > float(p["refine_rtol"]) * abs(stiff["alpha"])
 
@@ -34,8 +39,8 @@ def run_pushovers(job, eps_list, p):
     default): each stiffness has its own sphere radius, so each is a new model loaded from
     scratch (also one loading path for every stiffness, where friction makes the path matter)
     whose first load step goes near the softer run's collapse;
-    while the two stiffest runs differ by more than refine_rtol, one more run at a quarter of
-    the stiffest eps (at most refine_max more)."""
+    while the two stiffest runs disagree (:func:`_apart`), one more run at a quarter of the
+    stiffest eps (at most refine_max more)."""
     contact = job.get("contact", "vertex")
     if contact == "polyhedra":
         import yade_polyhedra

@@ -49,6 +49,9 @@ class VertexModel(BlockModel):
         self.r = max(float(law["floor"]), float(law["per_eps"]) * float(eps))
         self.a_point = float(job["point_area"])
         self.pen_max = 0.0  # largest penetration / r seen at the last measure
+        # the motion limits of the pushover scale with the softest planned run's strain: slips
+        # and rearrangements under friction do not shrink with the contact stiffness
+        self.detect_eps = max(float(e) for e in self.p["eps"])
         self._build()
         self._engines()
         self.set_stiffness(float(eps))

@@ -260,6 +260,21 @@ def test_assemble_vertex_model_extrapolates_linearly_and_fails_on_deep_penetrati
     assert assemble({"status": "done", "runs": runs}, p)["status"] == "collapsed"
 
 
+def test_assemble_uses_the_two_stiffest_runs():
+    """A soft double arch sagged under its own weight at eps = 1e-5 while the stiffer runs
+    carried it (measured on the paper's Fig. 2b): the vertex model then adds a stiffer run,
+    and the result comes from the two stiffest, 0.150 and 0.152 at eps 2.5e-6 and 6.25e-7:
+    0.152 + (0.152 - 0.150) / 3. With only the soft pair it is a disagreement."""
+    p = P.check({})
+    soft = _run(1e-5, lo=None, hi=0.0, dead=True)
+    mid, stiff = _run(2.5e-6, lo=0.1499, hi=0.1501), _run(6.25e-7, lo=0.1519, hi=0.1521)
+    dem = assemble({"status": "done", "runs": [soft, mid, stiff]}, p)
+    assert dem["status"] == "collapsed" and dem["alpha"] == pytest.approx(0.152 + 0.002 / 3)
+    assert dem["runs_used"] == [2.5e-6, 6.25e-7] and len(dem["runs"]) == 3
+    pair = assemble({"status": "done", "runs": [soft, mid]}, p)
+    assert pair["status"] == "failed" and "disagree" in pair["reason"]
+
+
 def test_assemble_failures_and_disagreement():
     p = P.check({})
     failed = assemble({"status": "failed", "reason": "NaN/Inf in the DEM state"}, p)
