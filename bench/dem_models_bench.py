@@ -35,7 +35,7 @@ from .common import machine, out_dir
 
 CATALOG = Path(__file__).resolve().parents[1] / "scenes" / "catalog"
 #: wall-clock cap of one Polyhedra run (s); the vertex model gets the same cap
-POLY_CAP = 900.0
+POLY_CAP = 400.0
 
 SCENES = {
     "block-rocking-2d": lambda: str(CATALOG / "block-rocking-2d.json"),
