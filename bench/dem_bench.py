@@ -55,6 +55,7 @@ CONFIGS = [
     ("eps", {"eps": (2.5e-6, 6.25e-7)}),
     ("eps", {"eps": (1e-5,)}),
     ("eps", {"eps": (2.5e-6,)}),
+    ("mass_quantile", {"mass_quantile": 0.5}),
     ("cfl", {"cfl": 2.0}),
     ("cfl", {"cfl": 2.0, "alpha_rtol": 0.01}),
     ("damping", {"damping": 0.5}),

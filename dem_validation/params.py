@@ -24,6 +24,8 @@ KNOBS = {
     "rebracket": (1.3, "first load step at stiffer contacts: to this x the softer contacts' alpha_hi"),
     "restep": (0.1, "further load steps at stiffer contacts, as a fraction of the softer alpha"),
     "restart_frac": (0.9, "stiffer contacts restart from an equilibrium at or below this x the softer alpha"),
+    "mass_quantile": (1.0, "vertex model: blocks whose contact frequency is above this quantile of all get "
+                           "their mass raised to it (density scaling; the loads stay the true ones; 1: off)"),
     "jump_ramp_T": (1.0, "vertex model: a stiffer run's first load step (to restart_frac x the softer run's "
                          "alpha) is ramped over this x T"),
     "alpha_max": (10.0, "give up (status stable) when alpha reaches this without collapse"),
@@ -98,7 +100,7 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
     for k in positive:
         if not p[k] > 0:
             raise ValueError(f"{k}: must be > 0, got {p[k]!r}")
-    for k, lo, hi in (("damping", 0.0, 1.0), ("restart_frac", 0.0, 1.0), ("restep", 0.0, 1.0),
+    for k, lo, hi in (("damping", 0.0, 1.0), ("mass_quantile", 0.0, 1.0 + 1e-12), ("restart_frac", 0.0, 1.0), ("restep", 0.0, 1.0),
                       ("surge_drop", 0.0, 1.0), ("rerun_frac", 0.0, 1.0)):
         if not lo <= p[k] < hi:
             raise ValueError(f"{k}: must be in [{lo}, {hi}), got {p[k]!r}")

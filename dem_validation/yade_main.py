@@ -68,6 +68,7 @@ def run_pushovers(job, eps_list, p):
         pk = p if k == len(eps_list) - 1 else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
         run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint)[0]
         run["sphere_radius"] = model.r
+        run["mass_factor"] = model.mass_factor
         runs.append(run)
         k += 1
         if k == len(eps_list) and len(runs) >= 2 and extra < int(p["refine_max"]) and _apart(runs[-2], runs[-1], p):

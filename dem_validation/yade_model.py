@@ -78,24 +78,51 @@ class BlockModel:
         loads = [self.f0[i][0].norm() for i in self.free]
         self.force_scale = (sum(loads) / len(loads)) if loads and sum(loads) > 0 else 1.0
 
-    def critical_time_step(self, stiff):
-        """Critical time step estimate (s) for a contact stiffness ``stiff`` per unit area
-        (N/m^3): per free block a bound on its highest contact frequency,
-        w^2 = 2 k (1/m + R^2/J_min), k = stiff * (its contact area); dt = cfl * 2 / w_max."""
+    def _frequencies(self, stiff):
+        """{free block: w^2 (1/s^2)}, a bound on its highest contact frequency for a contact
+        stiffness ``stiff`` per unit area (N/m^3): w^2 = 2 k (1/m + R^2/J_min), k = stiff *
+        (its contact area)."""
         contact_area = {i: 0.0 for i in self.free}
         for (i, j), a in self.area.items():
             for k in (i, j):
                 if k in contact_area:
                     contact_area[k] += a
-        w2max = 0.0
+        out = {}
         for i in self.free:
             s = self.states[i]
             a = contact_area[i] or self.area_default
             jmin = min(s.inertia[0], s.inertia[1], s.inertia[2])
             if self.dim == 2:
                 jmin = s.inertia[2]
-            w2 = 2.0 * stiff * a * (1.0 / s.mass + self.radius[i] ** 2 / jmin)
-            w2max = max(w2max, w2)
+            out[i] = 2.0 * stiff * a * (1.0 / s.mass + self.radius[i] ** 2 / jmin)
+        return out
+
+    def scale_masses(self, quantile):
+        """Density scaling for a quasi-static run: every free block whose contact frequency
+        is above the ``quantile`` (0..1) of all free blocks' gets its mass and inertia raised
+        by the ratio, so the few smallest stones do not set the time step of the whole scene.
+        The loads are forces fixed by the host (from the true masses), so the statics - and
+        the collapse load - do not change; only how fast a mechanism runs away does.
+        Returns the largest factor applied (1.0: none)."""
+        w2 = self._frequencies(1.0)
+        if not w2 or quantile >= 1.0:
+            return 1.0
+        ranked = sorted(w2.values())
+        target = ranked[min(len(ranked) - 1, int(quantile * len(ranked)))]
+        worst = 1.0
+        for i, w in w2.items():
+            f = w / target
+            if f > 1.0:
+                s = self.states[i]
+                s.mass = s.mass * f
+                s.inertia = s.inertia * f
+                worst = max(worst, f)
+        return worst
+
+    def critical_time_step(self, stiff):
+        """Critical time step estimate (s) for a contact stiffness ``stiff`` per unit area
+        (N/m^3): dt = cfl * 2 / w_max over the free blocks (:meth:`_frequencies`)."""
+        w2max = max(self._frequencies(stiff).values(), default=0.0)
         if not w2max > 0:
             raise ValueError("no contact stiffness: cannot choose a time step")
         return float(self.p["cfl"]) * 2.0 / math.sqrt(w2max)

@@ -53,6 +53,7 @@ class VertexModel(BlockModel):
         # and rearrangements under friction do not shrink with the contact stiffness
         self.detect_eps = max(float(e) for e in self.p["eps"])
         self._build()
+        self.mass_factor = self.scale_masses(float(self.p["mass_quantile"]))
         self._engines()
         self.set_stiffness(float(eps))
         self.set_alpha(0.0)
