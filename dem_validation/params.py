@@ -100,7 +100,8 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
     for k in positive:
         if not p[k] > 0:
             raise ValueError(f"{k}: must be > 0, got {p[k]!r}")
-    for k, lo, hi in (("damping", 0.0, 1.0), ("mass_quantile", 0.0, 1.0 + 1e-12), ("restart_frac", 0.0, 1.0), ("restep", 0.0, 1.0),
+    for k, lo, hi in (("damping", 0.0, 1.0), ("mass_quantile", 0.0, 1.0 + 1e-12), ("restart_frac", 0.0, 1.0),
+                      ("restep", 0.0, 1.0),
                       ("surge_drop", 0.0, 1.0), ("rerun_frac", 0.0, 1.0)):
         if not lo <= p[k] < hi:
             raise ValueError(f"{k}: must be in [{lo}, {hi}), got {p[k]!r}")
