@@ -18,7 +18,7 @@ import traceback
 GLOBAL_MAX_FREE = 12
 ITERATIVE_MAX_FREE = 40
 GLOBAL_TIME_LIMIT = 60.0
-DEM_TIMEOUT = 1200.0
+DEM_TIMEOUT = 600.0
 
 
 def la_options(scene_data: dict) -> dict:
