@@ -116,7 +116,7 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
                        "blocked": yade_blocked(scene.dim, b.blocked)})
     extra = {}
     if contact == "vertex":
-        from .vertex_spheres import check_fit, inset_directions
+        from .vertex_spheres import inset_directions
 
         verts = [np.asarray(b["vertices"]) for b in blocks]
         up = -np.pad(np.asarray(scene.gravity, dtype=float), (0, 3 - scene.dim))
@@ -127,8 +127,7 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         r_max = radius_at(law, max(params["eps"]))
         for b, v in zip(blocks, verts):
             try:
-                b["sphere_dirs"] = inset_directions(v, up).tolist()
-                check_fit(v, b["sphere_dirs"], r_max)
+                b["sphere_dirs"] = inset_directions(v, up, r_max).tolist()
             except ValueError as exc:
                 raise ValueError(f"block {b['id']}: {exc}") from None
         extra = {"sphere_radius": law, "point_area": a_point}

@@ -52,10 +52,11 @@ def face_weight(normal, e) -> float:
     return 1.0 + RECESS * float(np.dot(normal, e) > 0) + JITTER * ((x * 7.618033988749895) % 1.0)
 
 
-def inset_directions(vertices, up) -> np.ndarray:
+def inset_directions(vertices, up, r_fit: float) -> np.ndarray:
     """(k, 3) inset vectors d (for r = 1, dimensionless) of the (k, 3) vertices of a convex
     polyhedron: the sphere of radius r at vertex v has its centre at v + r d. ``up``: (3,)
-    the scene's up (minus gravity)."""
+    the scene's up (minus gravity). ValueError unless every sphere of radius ``r_fit`` (m,
+    the largest the runs use) lies at least r_fit inside every face plane."""
     P = polyhedron(vertices, check_interior=False)
     v = np.asarray(vertices, dtype=float)
     scale = float(np.ptp(v, axis=0).max())
@@ -74,13 +75,7 @@ def inset_directions(vertices, up) -> np.ndarray:
             raise ValueError(f"vertex {j}: no inward direction for its sphere")
         d /= min(s, 1.0)
         out[j] = d
+    depth = off[None, :] - (v + r_fit * out) @ N.T
+    if not np.all(depth >= r_fit * (1 - 1e-9)):
+        raise ValueError(f"a vertex sphere of radius {r_fit:.3g} m does not fit inside the block")
     return out
-
-
-def check_fit(vertices, dirs, r: float) -> None:
-    """ValueError unless every sphere (centre v + r d) lies at least r inside every face plane."""
-    P = polyhedron(vertices, check_interior=False)
-    centres = np.asarray(vertices, dtype=float) + r * np.asarray(dirs)
-    depth = P.face_offsets[None, :] - centres @ P.face_normals.T
-    if not np.all(depth >= r * (1 - 1e-9)):
-        raise ValueError(f"a vertex sphere of radius {r:.3g} m does not fit inside the block")

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 from yade import O, Vector3
+from yade import polyhedra_utils
 
 
 class NonFiniteState(RuntimeError):
@@ -39,6 +40,20 @@ def free_part(f, t, blocked: str):
         if c.upper() in blocked:
             t[k] = 0.0
     return f, t
+
+
+def polyhedron_body(mat, blk, **kw):
+    """(body, mass in kg) of the YADE ``Polyhedra`` body of a job block, its mass and inertia
+    set from the block's mass (from its volume at unit density when the block has none);
+    ``kw`` go to ``polyhedra_utils.polyhedra`` (fixed, mask)."""
+    body = polyhedra_utils.polyhedra(mat, v=[Vector3(*v) for v in blk["vertices"]], **kw)
+    vol = body.shape.GetVolume()
+    if not vol > 0:
+        raise ValueError(f"block {blk['id']}: YADE finds no volume")
+    mass = float(blk["mass"]) if blk["mass"] > 0 else vol
+    body.state.mass = mass
+    body.state.inertia = body.shape.GetInertia() * (mass / vol)
+    return body, mass
 
 
 class BlockModel:

@@ -19,9 +19,7 @@ from yade import (O, Vector3, ForceResetter, InsertionSortCollider, Bo1_Polyhedr
                   InteractionLoop, Ig2_Polyhedra_Polyhedra_PolyhedraGeom, PyRunner,
                   Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys, NewtonIntegrator,
                   Law2_PolyhedraGeom_PolyhedraPhys_Volumetric, PolyhedraMat)
-from yade import polyhedra_utils
-
-from yade_model import BlockModel
+from yade_model import BlockModel, polyhedron_body
 
 class ShearLaw:
     """Per-interaction incremental shear force with a Coulomb cap.
@@ -104,13 +102,7 @@ class PolyhedraModel(BlockModel):
         self.radius = []   # m, largest centroid-vertex distance of each block
         for i, blk in enumerate(job["blocks"]):
             verts = [Vector3(*v) for v in blk["vertices"]]
-            body = polyhedra_utils.polyhedra(mat, v=verts, fixed=bool(blk["fixed"]))
-            vol = body.shape.GetVolume()
-            if not vol > 0:
-                raise ValueError(f"block {blk['id']}: YADE finds no volume")
-            mass = float(blk["mass"]) if blk["mass"] > 0 else vol
-            body.state.mass = mass
-            body.state.inertia = body.shape.GetInertia() * (mass / vol)
+            body, _ = polyhedron_body(mat, blk, fixed=bool(blk["fixed"]))
             if not blk["fixed"]:
                 body.state.blockedDOFs = self.blocked[i]
             bid = O.bodies.append(body)

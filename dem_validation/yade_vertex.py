@@ -28,9 +28,9 @@ from yade import (O, Vector3, ForceResetter, InsertionSortCollider, Bo1_Polyhedr
                   Bo1_Sphere_Aabb, InteractionLoop, Ig2_Sphere_Polyhedra_ScGeom, NewtonIntegrator,
                   Ip2_FrictMat_FrictMat_FrictPhys, Law2_ScGeom_FrictPhys_CundallStrack, FrictMat,
                   PyRunner)
-from yade import polyhedra_utils, utils
+from yade import utils
 
-from yade_model import BlockModel
+from yade_model import BlockModel, polyhedron_body
 
 #: collider masks: spheres meet polyhedra only (same-mask pairs sharing a bit of AVOID are skipped)
 SPHERE_MASK, POLY_MASK, AVOID = 0b011, 0b101, 0b110
@@ -48,7 +48,7 @@ class VertexModel(BlockModel):
         law = job["sphere_radius"]
         self.r = max(float(law["floor"]), float(law["per_eps"]) * float(eps))
         self.a_point = float(job["point_area"])
-        self.pen_max = 0.0  # largest penetration / r seen at the last measure
+        self.pen_max, self.n_contacts = 0.0, 0  # largest penetration / r and loaded contacts at the last measure
         # the motion limits of the pushover scale with the softest planned run's strain: slips
         # and rearrangements under friction do not shrink with the contact stiffness
         self.detect_eps = max(float(e) for e in self.p["eps"])
@@ -69,13 +69,7 @@ class VertexModel(BlockModel):
         self.radius, self.bid, self.owner = [], [], {}
         for i, blk in enumerate(job["blocks"]):
             verts = [Vector3(*v) for v in blk["vertices"]]
-            poly = polyhedra_utils.polyhedra(self.mat, v=verts, fixed=False, mask=POLY_MASK)
-            vol = poly.shape.GetVolume()
-            if not vol > 0:
-                raise ValueError(f"block {blk['id']}: YADE finds no volume")
-            mass = float(blk["mass"]) if blk["mass"] > 0 else vol
-            poly.state.mass = mass
-            poly.state.inertia = poly.shape.GetInertia() * (mass / vol)
+            poly, mass = polyhedron_body(self.mat, blk, fixed=False, mask=POLY_MASK)
             members = [poly]
             for v, d in zip(blk["vertices"], blk["sphere_dirs"]):
                 s = utils.sphere(Vector3(*v) + Vector3(*d) * self.r, self.r, material=self.mat, mask=SPHERE_MASK)
@@ -183,19 +177,21 @@ class VertexModel(BlockModel):
         sets ``pen_max``, the largest penetration / r of any contact."""
         sums = {i: 0.0 for i in self.free}
         own = self.owner
-        pen = 0.0
+        pen, n = 0.0, 0
         for inter in O.interactions:
             if not inter.isReal:
                 continue
             f = inter.phys.normalForce.norm() + inter.phys.shearForce.norm()
-            pen = max(pen, inter.geom.penetrationDepth)
+            depth = inter.geom.penetrationDepth
+            pen = max(pen, depth)
+            n += depth > 0
             for k in (own[inter.id1], own[inter.id2]):
                 if k in sums:
                     sums[k] += f
-        self.pen_max = pen / self.r
+        self.pen_max, self.n_contacts = pen / self.r, n
         return sums
 
     def stats(self):
-        """Contacts now: how many carry force, and the largest penetration / r."""
-        n = sum(1 for i in O.interactions if i.isReal and i.geom.penetrationDepth > 0)
-        return {"contacts": n, "penetration_ratio": self.pen_max}
+        """At the last measure (:meth:`contact_forces`, run by every residual check): how many
+        contacts carry force, and the largest penetration / r."""
+        return {"contacts": self.n_contacts, "penetration_ratio": self.pen_max}
