@@ -122,9 +122,20 @@ def assemble(raw: dict, p: dict) -> dict:
     eps = [r["eps"] for r in runs]
     alpha = [r["alpha"] for r in runs]
     half = [0.5 * (r["alpha_hi"] - r["alpha_lo"]) for r in runs]
-    bad = _not_asymptotic(eps, alpha, half)
+    bad = _not_asymptotic(eps, alpha, half, NO_TREND_RTOL)
     if bad:
         return failed(bad, **base)
+    if _not_asymptotic(eps, alpha, half, MONOTONE_RTOL):
+        # a stiffer run a little below a softer one: no trend to extrapolate (friction makes the
+        # loading path matter), so the stiffest run's alpha, with the spread as its uncertainty
+        spread = abs(alpha[0] - alpha[1]) + half[1]
+        return {"status": "collapsed", "alpha": alpha[1], "alpha_uncertainty": spread,
+                "extrapolation": {"alpha_rigid": alpha[1], "uncertainty": spread, "correction": 0.0,
+                                  "method": "stiffest run (no trend with the stiffness)"},
+                "note": (f"not extrapolated: the stiffer run collapsed {100 * (alpha[0] - alpha[1]) / alpha[0]:.1f} %"
+                         f" earlier than the softer one (within {100 * NO_TREND_RTOL:g} %, no trend with the "
+                         "stiffness); alpha is the stiffest run's, its uncertainty the spread"),
+                "displacement": runs[-1].get("displacement"), **base}
     fit = richardson(eps, alpha, half, p["extrapolation_exponent"])
     if not np.isfinite(fit["alpha_rigid"]):
         return failed("non-finite extrapolated alpha", **base)
@@ -134,20 +145,24 @@ def assemble(raw: dict, p: dict) -> dict:
 
 
 #: a stiffer run may fall below a softer one by this much (relative) beyond their brackets
+#: and still be extrapolated
 MONOTONE_RTOL = 0.02
+#: up to this much below, the runs show no trend: the stiffest run's alpha is the result (seen on
+#: the frictional Fig. 5 trilithon: 0.0862 at eps 2.5e-6, 0.0835 at 6.25e-7, the LA 0.0833)
+NO_TREND_RTOL = 0.05
 
 
-def _not_asymptotic(eps, alpha, half) -> str:
+def _not_asymptotic(eps, alpha, half, rtol=MONOTONE_RTOL) -> str:
     """Why the runs cannot be extrapolated, or "".
 
     Stiffer contacts carry at least as much as softer ones (rocking: the toe moves out
     to the edge; sliding: no change). A stiffer run that collapses clearly earlier
-    (by more than MONOTONE_RTOL beyond the two brackets) means the softer contacts
+    (by more than ``rtol`` beyond the two brackets) means the softer contacts
     were out of the asymptotic range (seen on arches at eps = 3e-4: the soft arch
     sagged into another mechanism), and extrapolating would give a wrong number."""
     order = sorted(range(len(eps)), key=lambda k: -eps[k])
     for soft, stiff in zip(order, order[1:]):
-        slack = half[soft] + half[stiff] + MONOTONE_RTOL * abs(alpha[soft])
+        slack = half[soft] + half[stiff] + rtol * abs(alpha[soft])
         if alpha[stiff] < alpha[soft] - slack:
             return (f"stiffer contacts collapsed earlier (alpha {alpha[stiff]:.4g} at eps {eps[stiff]:g} < "
                     f"{alpha[soft]:.4g} at eps {eps[soft]:g}): the runs are not in the range where alpha "

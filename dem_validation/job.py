@@ -19,9 +19,9 @@ loads, interfaces), so the YADE side needs no project package:
   vertex model also gets ``sphere_radius``: ``{"floor": m, "per_eps": m}``,
   r(eps) = max(floor, per_eps x eps) for a run at settlement strain eps
   (:func:`sphere_radius`), ``point_area`` (m^2, the median interface area per
-  contact point: a 2D interface, a segment times the thickness, has 4
-  corners, a 3D one as many as its polygon) and per block ``sphere_dirs``,
-  the inset vectors d of its vertices (sphere centre v + r d,
+  contact point: a 2D interface, a segment times the thickness, has 2
+  points, a 3D one as many as its polygon) and per block ``sphere_anchors``
+  (m) and ``sphere_dirs``, the inset vectors d (sphere centre anchor + r d,
   :func:`dem_validation.vertex_spheres.inset_directions`).
 """
 from __future__ import annotations
@@ -34,6 +34,30 @@ def prism_vertices(poly2d: np.ndarray, thickness: float) -> np.ndarray:
     k = len(poly2d)
     z0 = np.zeros((k, 1))
     return np.vstack([np.hstack([poly2d, z0]), np.hstack([poly2d, z0 + thickness])])
+
+
+#: a 2D scene's vertex spheres sit at z = MIDPLANE x thickness, one per polygon corner: half the
+#: spheres of one per prism corner (the out-of-plane dofs are blocked, so the height does not
+#: matter to the statics). Not 1/2: the rectangle faces of the prisms are triangulated, and at
+#: mid-height a diagonal crosses the middle of the face, where the corner of a block in running
+#: bond sits (YADE's closest-point search would call that an edge contact and drop it).
+MIDPLANE = 0.6180339887
+
+
+def sphere_anchors(vertices: np.ndarray, dirs: np.ndarray, dim: int, thickness: float):
+    """(anchors (m, 3) in m, inset vectors (m, 3)) of a block's vertex spheres, from its (k, 3)
+    vertices and their inset vectors (:func:`dem_validation.vertex_spheres.inset_directions`).
+    3D: one per vertex. 2D (a prism from :func:`prism_vertices`): one per polygon corner at
+    z = MIDPLANE x thickness, inset in the plane only (the inset's z part, off the end face,
+    dropped: its in-plane part comes from the two side faces alone)."""
+    if dim == 3:
+        return vertices, dirs
+    k = len(vertices) // 2
+    anchors = vertices[:k].copy()
+    anchors[:, 2] = MIDPLANE * thickness
+    d = dirs[:k].copy()
+    d[:, 2] = 0.0
+    return anchors, d
 
 
 def pad6(gen: np.ndarray, dim: int) -> np.ndarray:
@@ -83,23 +107,24 @@ def radius_at(law: dict, eps: float) -> float:
 
 
 def expected_point_force(scene, interfaces, f0, fL) -> float:
-    """Largest expected force on one contact point (N): half the largest interface normal
-    force estimated by carrying every block's dead plus live load down to its supports
-    (:func:`limit.scaling.normal_force_estimate`) - at a hinge an interface's force sits on
-    the two points of its hinge edge."""
+    """Largest expected force on one contact point (N): the largest interface normal force
+    estimated by carrying every block's dead plus live load down to its supports
+    (:func:`limit.scaling.normal_force_estimate`), over the points of a hinge: at a hinge
+    an interface's force sits on the two points of its hinge edge in 3D, on one point in 2D
+    (one sphere per corner, :func:`sphere_anchors`)."""
     from limit.scaling import normal_force_estimate
 
     if not len(interfaces):
         return 0.0
     n = normal_force_estimate(scene, interfaces, np.ravel(f0), np.ravel(fL))
-    return 0.5 * float(np.max(n))
+    return (0.5 if scene.dim == 3 else 1.0) * float(np.max(n))
 
 
 def point_area(interfaces, dim: int) -> float:
     """Median interface area per contact point (m^2); 1.0 without interfaces."""
     if not len(interfaces):
         return 1.0
-    npts = [4 if dim == 2 else len(poly) for poly in interfaces.polygons]
+    npts = [2 if dim == 2 else len(poly) for poly in interfaces.polygons]
     return float(np.median(np.asarray(interfaces.area, dtype=float) / np.asarray(npts, dtype=float)))
 
 
@@ -127,9 +152,11 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         r_max = radius_at(law, max(params["eps"]))
         for b, v in zip(blocks, verts):
             try:
-                b["sphere_dirs"] = inset_directions(v, up, r_max).tolist()
+                d = inset_directions(v, up, r_max)
             except ValueError as exc:
                 raise ValueError(f"block {b['id']}: {exc}") from None
+            anchors, d = sphere_anchors(v, d, scene.dim, float(scene.thickness))
+            b["sphere_anchors"], b["sphere_dirs"] = anchors.tolist(), d.tolist()
         extra = {"sphere_radius": law, "point_area": a_point}
     return {
         "format": "dem-job/1",

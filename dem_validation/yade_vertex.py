@@ -3,7 +3,8 @@
 Each block is one YADE clump of two kinds of member: its convex polyhedron
 (a ``Polyhedra`` shape, which only ever meets spheres) and a sphere of radius
 r inset at each vertex (tangent to, or inside, every face plane through the
-vertex; the host computes the centres, :mod:`dem_validation.vertex_spheres`).
+vertex; a 2D scene's prism has one per polygon corner, at one height; the host
+computes the centres, :mod:`dem_validation.job`).
 Contacts are vertex sphere against the other block's polyhedron, all in C++
 with stock classes: ``Ig2_Sphere_Polyhedra_ScGeom`` (the closest point of the
 polyhedron; ``edgeCoeff = vertexCoeff = 0``, so a sphere that has slid past
@@ -71,7 +72,7 @@ class VertexModel(BlockModel):
             verts = [Vector3(*v) for v in blk["vertices"]]
             poly, mass = polyhedron_body(self.mat, blk, fixed=False, mask=POLY_MASK)
             members = [poly]
-            for v, d in zip(blk["vertices"], blk["sphere_dirs"]):
+            for v, d in zip(blk["sphere_anchors"], blk["sphere_dirs"]):
                 s = utils.sphere(Vector3(*v) + Vector3(*d) * self.r, self.r, material=self.mat, mask=SPHERE_MASK)
                 s.state.mass = SPHERE_MASS * mass
                 s.state.inertia = Vector3(1, 1, 1) * (0.4 * s.state.mass * self.r ** 2)

@@ -86,7 +86,8 @@ def dem_model_text(dem: dict) -> str:
         return (f"Vertex-to-face model: runs {raw}; vertex spheres r = {radii} mm (r scales with eps, so the "
                 "extrapolation to eps = 0 also removes the corner rounding: the DEM alpha is corrected for the "
                 "rounding, not compared with a rounded geometry)"
-                + (f"; deepest contact at an equilibrium {pen:.2f} r" if pen is not None else "") + ".")
+                + (f"; deepest contact at an equilibrium {pen:.2f} r" if pen is not None else "") + "."
+                + (f" {dem['note'][0].upper()}{dem['note'][1:]}." if dem.get("note") else ""))
     return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."
 
 

@@ -306,3 +306,17 @@ def test_assemble_rejects_a_stiffer_run_that_collapses_earlier():
     # within the brackets and the 2 % allowance: still extrapolated (sliding does not depend on eps)
     near = assemble({"status": "done", "runs": [_run(1e-4, lo=0.400, hi=0.402), _run(1e-5, lo=0.396, hi=0.398)]}, p)
     assert near["status"] == "collapsed" and near["alpha"] is not None
+
+
+def test_assemble_takes_the_stiffest_run_when_the_runs_show_no_trend():
+    """Fig. 5 trilithon, measured: 0.0862 at eps 2.5e-6 and 0.0835 at 6.25e-7 (3.1 % lower,
+    beyond the brackets plus the 2 % allowance). Extrapolating through the pair would move
+    further down (4/3 x 0.0835 - 1/3 x 0.0862 = 0.0826); the result is the stiffest run's
+    alpha, 0.0835, with the spread 0.0027 (+ its half bracket) as the uncertainty."""
+    p = P.check({})
+    dem = assemble({"status": "done", "runs": [_run(2.5e-6, lo=0.0856, hi=0.0868),
+                                               _run(6.25e-7, lo=0.0833, hi=0.0837)]}, p)
+    assert dem["status"] == "collapsed"
+    assert dem["alpha"] == pytest.approx(0.0835)
+    assert dem["alpha_uncertainty"] == pytest.approx(0.0862 - 0.0835 + 0.0002)
+    assert "not extrapolated" in dem["note"]
