@@ -118,7 +118,7 @@ def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
         if steps >= observe and res < p["eq_tol"] and w < motion_tol:
             outcome, why = STABLE, "equilibrium"
             break
-        if (rerun and surge_over and rising >= k_run and d > max(creep_disp, p["rerun_reach"] * d_run)
+        if (rerun and (surge_over or steps >= observe) and rising >= k_run and d > max(creep_disp, p["rerun_reach"] * d_run)
                 and w > max(p["rerun_frac"] * w_peak, rerun_floor)):
             outcome, why = COLLAPSE, "motion picked up again after the first surge"
             break
