@@ -42,7 +42,7 @@ KNOBS = {
     "runaway_T": (0.3, "run-away: motion per check window not shrinking for this x T"),
     "rerun_floor": (0.5, "run-away: motion per check window above this x eps L"),
     "rerun_reach": (1.2, "run-away: blocks moved this x farther than before the motion picked up again"),
-    "observe_T": (1.0, "equilibrium is not declared before this x T after a load step"),
+    "observe_T": (0.5, "equilibrium is not declared before this x T after a load step"),
     "vertex_r": (1e-5, "vertex model: sphere radius / Lmin (the smallest free block's largest extent)"),
     "refine_rtol": (0.05, "vertex model: when the two stiffest runs differ by more than this (relative), "
                           "one more run at a quarter of the stiffest eps"),
