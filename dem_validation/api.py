@@ -89,7 +89,7 @@ def assemble(raw: dict, p: dict) -> dict:
     runs = raw.get("runs") or []
     history = [dict(h, eps=r["eps"]) for r in runs for h in r.get("history", [])]
     summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt",
-                                      "sphere_radius", "mass_factor") if k in r} for r in runs]
+                                      "sphere_radius", "mass_factor", "dead_load_collapse") if k in r} for r in runs]
     base = {"runs": summary, "history": history, "steps": sum(r.get("steps", 0) for r in runs),
             **_keep(raw, "cpu_s")}
     if not runs:

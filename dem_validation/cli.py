@@ -54,14 +54,27 @@ def _progress(info):
         print(f"dem: contacts eps={info['eps']:.0e}, dt={info['dt']:.3g} s", file=sys.stderr, flush=True)
 
 
+def _run_text(run: dict) -> str:
+    """One run of the result: its alpha (or what happened instead) and its eps."""
+    if run.get("alpha") is not None:
+        what = f"{run['alpha']:.5g}"
+    elif run.get("dead_load_collapse"):
+        what = "dead-load collapse"
+    else:
+        what = str(run.get("status"))
+    return f"{what} (eps {run['eps']:.2g})"
+
+
 def summary(result: dict) -> str:
     dem = result["dem"]
     lines = [f"{result['scene']}: {result['n_blocks']} blocks ({result['n_free_blocks']} free), "
              f"{result['n_interfaces']} interfaces"]
     if dem["status"] == "collapsed" and dem.get("alpha") is not None:
-        raw = ", ".join(f"{r['alpha']:.5g} (eps {r['eps']:.0e})" for r in dem["runs"])
+        raw = ", ".join(_run_text(r) for r in dem["runs"])
+        how = ("rigid-contact extrapolation of the two stiffest" if dem.get("extrapolation", {}).get("method")
+               == "richardson" else "the stiffest run (no trend with the stiffness) of")
         lines.append(f"DEM collapsed: alpha = {dem['alpha']:.5g} +- {dem['alpha_uncertainty']:.2g} "
-                     f"(rigid-contact extrapolation of {raw})")
+                     f"({how} runs {raw})")
     elif dem["status"] == "failed":
         lines.append(f"DEM failed: {dem.get('reason')}")
     else:
@@ -88,9 +101,9 @@ def cmd_run(args) -> int:
                      yade=args.yade, interfaces=I, contact=args.contact)
     result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
               "n_interfaces": len(I), "dem": dem}
-    print(summary(result))
-    if args.json:
+    if args.json:  # first: a fault in the summary must not lose the result
         jsonio.write_json(args.json, result)
+    print(summary(result))
     return 1 if dem["status"] == "failed" else 0
 
 

@@ -320,3 +320,19 @@ def test_assemble_takes_the_stiffest_run_when_the_runs_show_no_trend():
     assert dem["alpha"] == pytest.approx(0.0835)
     assert dem["alpha_uncertainty"] == pytest.approx(0.0862 - 0.0835 + 0.0002)
     assert "not extrapolated" in dem["note"]
+
+
+def test_command_line_summary_names_a_soft_run_that_collapsed_under_the_dead_load():
+    """Fig. 2b: the softest run sagged (dead-load collapse), the two stiffer ones collapsed
+    under load; the summary line must still print (it crashed on the soft run's missing alpha,
+    and the result file was lost with it)."""
+    from dem_validation.cli import summary
+
+    p = P.check({})
+    dem = assemble({"status": "done", "runs": [_run(1e-5, lo=None, hi=0.0, dead=True),
+                                               _run(2.5e-6, lo=0.150, hi=0.151),
+                                               _run(6.25e-7, lo=0.152, hi=0.153)]}, p)
+    assert dem["status"] == "collapsed" and dem["runs_used"] == [2.5e-6, 6.25e-7]
+    text = summary({"scene": "s", "n_blocks": 3, "n_free_blocks": 2, "n_interfaces": 2, "dem": dem})
+    assert "dead-load collapse (eps 1e-05)" in text and "0.1505 (eps 2.5e-06)" in text
+    assert "extrapolation of the two stiffest" in text
