@@ -111,6 +111,12 @@ def dem_disagreement(r) -> str:
                 "against a neighbour by differential settlement) carry friction in the DEM through elastic "
                 "load sharing, so the loading path selects a collapse above the minimum. This is the physics "
                 "that separates step 2 from step 1, not an error of either; it is reported, not tuned.")
+    elif dem < fric and _finite(r.get("iter_alpha")) and r["iter_alpha"] < 0.99 * fric:
+        txt += (f"Here the DEM collapses below it, and so does the iterative LP of Gilbert et al. (2006): "
+                f"{r['iter_alpha']:.4g}, a frictional collapse state {100 * (1 - r['iter_alpha'] / fric):.0f} % "
+                "below the NLP's. The NLP is a local search (here it stayed at its associative start): "
+                "its value is a local minimum, and the lower frictional collapse that the iterative LP "
+                f"finds is the one to compare with (DEM {100 * (dem / r['iter_alpha'] - 1):+.1f} % from it).")
     elif dem < fric:
         txt += ("Here the DEM collapses below it: a lower bound would be violated for rigid blocks, so the "
                 "gap measures what the DEM's contact model adds (rounded corners, elastic penetration, "

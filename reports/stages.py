@@ -16,9 +16,9 @@ import traceback
 
 #: limits of the independent checks in the validation run (free blocks)
 GLOBAL_MAX_FREE = 12
-ITERATIVE_MAX_FREE = 40
+ITERATIVE_MAX_FREE = 80
 GLOBAL_TIME_LIMIT = 60.0
-DEM_TIMEOUT = 600.0
+DEM_TIMEOUT = 900.0
 
 
 def la_options(scene_data: dict) -> dict:

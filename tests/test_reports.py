@@ -196,3 +196,17 @@ def test_capacity_curve_points_follow_the_load_order():
     assert list(a) == [0.0, 0.2, 0.3] and list(u) == [0.0, 1e-4, 2e-4]
     assert pts["collapse"] == {1e-5: 0.35} and 2e-6 not in pts["curves"]
     assert not capacity_figure({"history": []}, 0.3, "unused.png")  # nothing to draw: no figure
+
+
+def test_dem_below_the_nlp_points_at_a_lower_iterative_lp_value():
+    """Fig. 3 with 70 stones, measured: LP = NLP = 0.5708 (the NLP stayed at its associative
+    start), the iterative LP 0.5230, the DEM 0.5012. The text must name the iterative LP's
+    value and the DEM's distance from it: 0.5012 / 0.5230 - 1 = -4.2 %."""
+    from reports.render import dem_disagreement
+
+    row = {"lp_alpha": 0.5708, "fric_alpha": 0.5708, "dem_alpha": 0.5012, "iter_alpha": 0.5230}
+    txt = dem_disagreement(row)
+    assert "0.523" in txt and "local minimum" in txt and "-4.2 %" in txt
+    # without an iterative LP value below the NLP, the other explanation
+    txt = dem_disagreement(dict(row, iter_alpha=0.5708))
+    assert "local minimum" not in txt and "contact model" in txt
