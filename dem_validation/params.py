@@ -36,6 +36,8 @@ KNOBS = {
     "motion_tol": (0.02, "equilibrium: block motion per check window / (eps L)"),
     "creep_disp": (0.05, "run-away needs a motion over creep_disp x eps^(1/3) x L"),
     "surge_drop": (0.3, "the first surge of motion is over when the motion per window drops below this x its peak"),
+    "early_disp": (0.25, "run-away with the first surge not yet over (motion growing since the load step): "
+                         "also needs a motion over this x the collapse distance (collapse_disp x eps^(1/3) x H)"),
     "rerun_frac": (0.25, "run-away: motion per window picked up again to this x the first surge's peak"),
     "collapse_disp": (0.5, "collapse when a block moved collapse_disp x eps^(1/3) x H from the last equilibrium"),
     "checks_per_T": (40, "equilibrium checks per time scale T"),
@@ -93,7 +95,7 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
             raise ValueError(f"{k}: expected a number, got {v!r}") from None
         if not math.isfinite(p[k]):
             raise ValueError(f"{k}: must be finite, got {v!r}")
-    positive = ("ks_ratio", "cfl", "step0", "alpha_max", "alpha_rtol", "alpha_rtol_soft", "eq_tol", "motion_tol",
+    positive = ("ks_ratio", "cfl", "early_disp", "step0", "alpha_max", "alpha_rtol", "alpha_rtol_soft", "eq_tol", "motion_tol",
                 "creep_disp",
                 "collapse_disp", "checks_per_T", "runaway_T", "trial_T", "extrapolation_exponent", "rebracket",
                 "rerun_floor", "rerun_reach", "vertex_r", "pen_limit", "pen_target", "refine_rtol")

@@ -25,7 +25,11 @@ A *trial* raises alpha from the last equilibrium to a target (linearly over
   (above the slow creep seen near equilibrium), and the blocks moved more
   than ``creep_disp`` x eps^(1/3) x L and more than ``rerun_reach`` x as far
   as before this rise began (new ground, not the next swing of an
-  oscillation) - a slow run-away past the peak;
+  oscillation) - a slow run-away past the peak; or, after ``observe_T`` x T,
+  the same rise with no surge ever over (near the collapse load the motion
+  grows from the load step on), once the blocks moved ``early_disp`` x the
+  collapse distance (a frictional slip of a few millimetres that then stops
+  is not a collapse: the Fig. 5 trilithon read as one at 0.062 against 0.083);
 * after ``trial_T`` x T without either: collapse when the motion per window
   is still growing (after the surge, or with no surge at all: a slow slide),
   equilibrium otherwise (the history says so).
@@ -73,6 +77,7 @@ def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
     e = getattr(model, "detect_eps", None) or model.eps  # the strain that scales the motion limits
     collapse_disp = p["collapse_disp"] * e ** (1.0 / 3.0) * model.size
     creep_disp = p["creep_disp"] * e ** (1.0 / 3.0) * length
+    early_disp = p["early_disp"] * collapse_disp
     motion_tol = p["motion_tol"] * e * length
     chk = max(1, int(round(T / dt / p["checks_per_T"])))
     ramp = int(round(p["ramp_T"] * T / dt))
@@ -118,10 +123,14 @@ def trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
         if steps >= observe and res < p["eq_tol"] and w < motion_tol:
             outcome, why = STABLE, "equilibrium"
             break
-        if (rerun and (surge_over or steps >= observe) and rising >= k_run and d > max(creep_disp, p["rerun_reach"] * d_run)
-                and w > max(p["rerun_frac"] * w_peak, rerun_floor)):
-            outcome, why = COLLAPSE, "motion picked up again after the first surge"
-            break
+        if (rerun and rising >= k_run and w > max(p["rerun_frac"] * w_peak, rerun_floor)
+                and d > max(creep_disp, p["rerun_reach"] * d_run)):
+            if surge_over:
+                outcome, why = COLLAPSE, "motion picked up again after the first surge"
+                break
+            if steps >= observe and d > early_disp:
+                outcome, why = COLLAPSE, "motion still growing since the load step"
+                break
     if outcome is None:
         growing = rising >= 2 and (not surge_over or w > max(0.5 * p["rerun_frac"] * w_peak, rerun_floor))
         outcome = COLLAPSE if growing else STABLE
