@@ -60,10 +60,13 @@ def _reason(stage: str, res: dict) -> str:
 
 
 def dem_cost(data: dict) -> float:
-    """Rough relative cost of a scene's DEM stage (its free blocks, a 3D block counted as 3):
-    the longest stages are started first, so the short ones fill the cores at the end."""
-    free = sum(1 for b in data.get("blocks", []) if not b.get("fixed"))
-    return free * (3.0 if data.get("dim") == 3 else 1.0)
+    """Rough relative cost of a scene's DEM stage: its vertex spheres (the corners of the free
+    blocks: a 2D polygon's, a 3D polyhedron's, 4 or 8 for a box). The longest stages are
+    started first, so the short ones fill the cores at the end (counting 3D blocks three
+    times put the 70-stone Fig. 3 wall, 12 minutes, behind six shorter 3D scenes)."""
+    box = 4 if data.get("dim") == 2 else 8
+    return float(sum(len(b["vertices"]) if "vertices" in b else box
+                     for b in data.get("blocks", []) if not b.get("fixed")))
 
 
 def _run_task(stage, data, opts):
