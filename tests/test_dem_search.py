@@ -336,3 +336,54 @@ def test_command_line_summary_names_a_soft_run_that_collapsed_under_the_dead_loa
     text = summary({"scene": "s", "n_blocks": 3, "n_free_blocks": 2, "n_interfaces": 2, "dem": dem})
     assert "dead-load collapse (eps 1e-05)" in text and "0.1505 (eps 2.5e-06)" in text
     assert "extrapolation of the two stiffest" in text
+
+
+class ScriptedMotion:
+    """Stand-in for a YADE model whose one block moves by a prescribed d(t) (m) after a load
+    step (t in units of T = 1 s, dt = 1 ms): for the run-away rules of :func:`pushover.trial`.
+    Residual 0.5 while it moves, 0 once it has stopped."""
+
+    length = size = time_scale = 1.0
+    dt, eps, alpha = 1e-3, 1e-5, 0.0
+
+    def __init__(self, d, stops_at=None):
+        self.d, self.stops_at, self.n = d, stops_at, 0
+
+    def t(self):
+        return self.n * self.dt
+
+    def set_alpha(self, a):
+        self.alpha = a
+
+    def step(self, n):
+        self.n += n
+
+    def snapshot(self):
+        return {"t": self.t(), "alpha": self.alpha}
+
+    def max_motion(self, ref):
+        return self.d(self.t()) - self.d(ref["t"])
+
+    def residual(self):
+        return 0.0 if self.stops_at is not None and self.t() > self.stops_at else 0.5
+
+
+def test_a_slip_of_a_few_millimetres_that_stops_is_not_a_collapse():
+    """The Fig. 5 trilithon's case: a block slips 2 mm (above creep_disp = 0.05 x eps^(1/3) x L
+    = 1.08 mm, below early_disp x collapse distance = 0.25 x 0.5 x eps^(1/3) x H = 2.69 mm),
+    accelerating for 1 T and stopping at 2 T. Its motion rises for longer than runaway_T with
+    the first surge never over, so the run-away rule alone would call it a collapse."""
+    p = P.check({})
+    slip = lambda t: 0.002 * (3 * min(t / 2, 1) ** 2 - 2 * min(t / 2, 1) ** 3)  # noqa: E731 (smoothstep)
+    out = pushover.trial(ScriptedMotion(slip, stops_at=2.0), 0.0, 0.1, p)
+    assert out["outcome"] == pushover.STABLE and out["why"] == "equilibrium"
+
+
+def test_a_run_away_growing_from_the_load_step_is_caught_before_the_collapse_distance():
+    """d = 0.02 t^2 (m): past early_disp (2.69 mm) at t = 0.37 T, at the collapse distance
+    (10.8 mm) only at t = 0.73 T. The rule applies from observe_T = 0.5 T on, so the trial ends
+    there (500 steps + one check window), with the run-away named."""
+    p = P.check({})
+    out = pushover.trial(ScriptedMotion(lambda t: 0.02 * t * t), 0.0, 0.1, p)
+    assert out["outcome"] == pushover.COLLAPSE and out["why"] == "motion still growing since the load step"
+    assert out["steps"] <= 525 and out["motion"] < 0.0108
