@@ -83,9 +83,11 @@ def dem_model_text(dem: dict) -> str:
     if dem.get("contact", "vertex") == "vertex":
         radii = ", ".join(f"{1e3 * r['sphere_radius']:.3g}" for r in runs if r.get("sphere_radius"))
         pen = dem.get("penetration_ratio")
-        return (f"Vertex-to-face model: runs {raw}; vertex spheres r = {radii} mm (r scales with eps, so the "
-                "extrapolation to eps = 0 also removes the corner rounding: the DEM alpha is corrected for the "
-                "rounding, not compared with a rounded geometry)"
+        extrapolated = (dem.get("extrapolation") or {}).get("method", "richardson") == "richardson"
+        rounding = ("r scales with eps, so the extrapolation to eps = 0 also removes the corner rounding: the DEM "
+                    "alpha is corrected for the rounding, not compared with a rounded geometry" if extrapolated else
+                    "the stiffest run's alpha is taken as it is, with its corner rounding of r")
+        return (f"Vertex-to-face model: runs {raw}; vertex spheres r = {radii} mm ({rounding})"
                 + (f"; deepest contact at an equilibrium {pen:.2f} r" if pen is not None else "") + "."
                 + (f" {dem['note'][0].upper()}{dem['note'][1:]}." if dem.get("note") else ""))
     return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."

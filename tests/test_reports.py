@@ -210,3 +210,17 @@ def test_dem_below_the_nlp_points_at_a_lower_iterative_lp_value():
     # without an iterative LP value below the NLP, the other explanation
     txt = dem_disagreement(dict(row, iter_alpha=0.5708))
     assert "local minimum" not in txt and "contact model" in txt
+
+
+def test_dem_model_text_says_how_the_rounding_was_treated():
+    """An extrapolated result is corrected for the corner rounding; the stiffest run taken
+    as it is (runs with no trend, Fig. 5) is not, and the text must not claim it."""
+    from reports.table import dem_model_text
+
+    runs = [{"alpha": 0.0862, "eps": 2.5e-6, "sphere_radius": 5e-4},
+            {"alpha": 0.0835, "eps": 6.25e-7, "sphere_radius": 1.3e-4}]
+    plain = dem_model_text({"runs": runs, "extrapolation": {"method": "stiffest run (no trend with the stiffness)"},
+                            "note": "not extrapolated: the stiffer run collapsed 3.1 % earlier"})
+    assert "corrected for the rounding" not in plain and "taken as it is" in plain and "Not extrapolated" in plain
+    fitted = dem_model_text({"runs": runs, "extrapolation": {"method": "richardson"}})
+    assert "corrected for the rounding" in fitted and "taken as it is" not in fitted
