@@ -125,23 +125,22 @@ def assemble(raw: dict, p: dict) -> dict:
     bad = _not_asymptotic(eps, alpha, half, NO_TREND_RTOL)
     if bad:
         return failed(bad, **base)
+    extra = {}
     if _not_asymptotic(eps, alpha, half, MONOTONE_RTOL):
         # a stiffer run a little below a softer one: no trend to extrapolate (friction makes the
         # loading path matter), so the stiffest run's alpha, with the spread as its uncertainty
         spread = abs(alpha[0] - alpha[1]) + half[1]
-        return {"status": "collapsed", "alpha": alpha[1], "alpha_uncertainty": spread,
-                "extrapolation": {"alpha_rigid": alpha[1], "uncertainty": spread, "correction": 0.0,
-                                  "method": "stiffest run (no trend with the stiffness)"},
-                "note": (f"not extrapolated: the stiffer run collapsed {100 * (alpha[0] - alpha[1]) / alpha[0]:.1f} %"
+        fit = {"alpha_rigid": alpha[1], "uncertainty": spread, "correction": 0.0,
+               "method": "stiffest run (no trend with the stiffness)"}
+        extra["note"] = (f"not extrapolated: the stiffer run collapsed {100 * (alpha[0] - alpha[1]) / alpha[0]:.1f} %"
                          f" earlier than the softer one (within {100 * NO_TREND_RTOL:g} %, no trend with the "
-                         "stiffness); alpha is the stiffest run's, its uncertainty the spread"),
-                "displacement": runs[-1].get("displacement"), **base}
-    fit = richardson(eps, alpha, half, p["extrapolation_exponent"])
+                         "stiffness); alpha is the stiffest run's, its uncertainty the spread")
+    else:
+        fit = dict(richardson(eps, alpha, half, p["extrapolation_exponent"]), method="richardson")
     if not np.isfinite(fit["alpha_rigid"]):
         return failed("non-finite extrapolated alpha", **base)
     return {"status": "collapsed", "alpha": fit["alpha_rigid"], "alpha_uncertainty": fit["uncertainty"],
-            "extrapolation": dict(fit, method="richardson"), "displacement": runs[-1].get("displacement"),
-            **base}
+            "extrapolation": fit, "displacement": runs[-1].get("displacement"), **extra, **base}
 
 
 #: a stiffer run may fall below a softer one by this much (relative) beyond their brackets
