@@ -91,7 +91,7 @@ def assemble(raw: dict, p: dict) -> dict:
     summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt",
                                       "sphere_radius", "mass_factor", "dead_load_collapse") if k in r} for r in runs]
     base = {"runs": summary, "history": history, "steps": sum(r.get("steps", 0) for r in runs),
-            **_keep(raw, "cpu_s")}
+            **_keep(raw, "cpu_s", "fixed_addresses")}
     if not runs:
         return failed("the YADE side returned no run", **base)
     pens = [h["penetration_ratio"] for h in history if h.get("outcome") == "stable" and "penetration_ratio" in h]

@@ -21,7 +21,11 @@ import threading
 import time
 from pathlib import Path
 
-SCRIPT = Path(__file__).resolve().parent / "yade_main.py"
+HERE = Path(__file__).resolve().parent
+SCRIPT = HERE / "yade_main.py"
+#: the modules that run inside YADE (they import each other, never the project's packages);
+#: each run gets copies in its work directory, so YADE sees the same relative paths from any clone
+YADE_SIDE = ("yade_main.py", "pushover.py", "yade_model.py", "yade_polyhedra.py", "yade_vertex.py")
 PROGRESS_TAG = "DEMPROGRESS "
 
 
@@ -32,6 +36,51 @@ def find_yade(yade: str | None) -> str | None:
     if os.sep in name:
         return name if os.path.isfile(name) and os.access(name, os.X_OK) else None
     return shutil.which(name)
+
+
+_NO_ASLR: list[str] | None = None
+
+
+def no_aslr_prefix() -> list[str]:
+    """Command prefix that starts YADE with address-space randomization off
+    (``setarch <machine> -R``), or [] where the kernel or a sandbox refuses it.
+
+    YADE builds each Polyhedra's surface with CGAL, and the order of its vertices and
+    the triangulation of coplanar faces follow heap addresses. What shifted them in
+    practice was the process's environment (see yade_env); fixed addresses rule out
+    the rest (a probe run straight from a shell, without yade_env, gave different
+    surfaces with randomized addresses and the same ones without)."""
+    global _NO_ASLR
+    if _NO_ASLR is None:
+        exe = shutil.which("setarch")
+        prefix = [exe, os.uname().machine, "-R"] if exe else []
+        if prefix:
+            try:
+                ok = subprocess.run(prefix + ["true"], stdin=subprocess.DEVNULL, capture_output=True,
+                                    timeout=30).returncode == 0
+            except (OSError, subprocess.TimeoutExpired):
+                ok = False
+            prefix = prefix if ok else []
+        _NO_ASLR = prefix
+    return _NO_ASLR
+
+
+def yade_env(exe: str, work: Path) -> dict:
+    """The YADE process's whole environment, the same from any shell, clone or parent
+    process (with fixed addresses, a longer environment would shift the heap and with it
+    the order CGAL gives the polyhedra's vertices; see no_aslr_prefix): one OpenMP and
+    BLAS thread, a fixed hash seed (the Python side iterates in the same order), no
+    display, HOME in the work directory (YADE's config files land there), no byte-code
+    files (a run that reads them allocates differently from one that writes them)."""
+    return {
+        "PATH": os.pathsep.join(dict.fromkeys([os.path.dirname(exe), "/usr/local/bin", "/usr/bin", "/bin"])),
+        "HOME": str(work), "LC_ALL": "C.UTF-8", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+        "PYTHONHASHSEED": "0", "PYTHONDONTWRITEBYTECODE": "1", "DEM_JOB": "job.json",
+        # YADE's polyhedra contact copies and intersects CGAL polyhedra every step, and 43 % of
+        # a step went to malloc/free (perf, 25-block wall): a larger per-thread free-list cache
+        # cuts the step time by about 25 % with the same results bit for bit
+        "GLIBC_TUNABLES": "glibc.malloc.tcache_count=1000",
+    }
 
 
 def failed(reason: str, **extra) -> dict:
@@ -79,16 +128,13 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
     try:
         job = dict(job, result="result.json")
         (work / "job.json").write_text(json.dumps(job))
-        env = dict(os.environ, OMP_NUM_THREADS="1", DEM_JOB=str(work / "job.json"))
-        # a fixed hash seed makes YADE's Python side iterate in the same order every run, so
-        # a rerun repeats its history step for step (with random seeds the step counts differed)
-        env.setdefault("PYTHONHASHSEED", "0")
-        # YADE's polyhedra contact copies and intersects CGAL polyhedra every step, and 43 % of a
-        # step went to malloc/free (perf, 25-block wall): a larger per-thread free-list cache cuts
-        # the step time by about 25 % with the same results bit for bit (read at process start)
-        env.setdefault("GLIBC_TUNABLES", "glibc.malloc.tcache_count=1000")
-        env.pop("DISPLAY", None)
-        cmd = [exe, "-n", "-x", "-j1", "-f1", str(script or SCRIPT), str(work / "job.json")]
+        for name in YADE_SIDE:
+            shutil.copyfile(HERE / name, work / name)
+        entry = Path(script).name if script else SCRIPT.name
+        if script:
+            shutil.copyfile(script, work / entry)
+        env = yade_env(exe, work)
+        cmd = no_aslr_prefix() + [exe, "-n", "-x", "-j1", "-f1", entry, "job.json"]
         with open(work / "yade.err", "w") as err:
             try:
                 proc = subprocess.Popen(cmd, cwd=work, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
@@ -129,6 +175,7 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
         if not _finite(res):
             return failed("non-finite number in the DEM result", time_s=elapsed)
         res["wall_s"] = elapsed
+        res["fixed_addresses"] = bool(no_aslr_prefix())
         return res
     finally:
         if keep_dir:

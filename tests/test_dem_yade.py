@@ -151,6 +151,45 @@ def test_vertex_law_takes_torques_about_the_contact_points(tmp_path):
     assert res["status"] == "done" and res["spherical"] is False
 
 
+SURFACE_PROBE = (
+    "import hashlib, json, os, sys\n"
+    "sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # the run's copies\n"
+    "import yade_vertex\n"
+    "from yade import O\n"
+    "job = json.load(open(sys.argv[1]))\n"
+    "yade_vertex.VertexModel(job, job['params']['eps'][0])\n"
+    "polys = [b.shape for b in O.bodies if b.shape.__class__.__name__ == 'Polyhedra']\n"
+    "text = repr([([tuple(v) for v in s.v], list(s.GetSurfaceTriangulation())) for s in polys])\n"
+    "out = os.path.join(os.path.dirname(sys.argv[1]), job['result'])\n"
+    "json.dump({'status': 'done', 'runs': [], 'n': len(polys),\n"
+    "           'surface': hashlib.md5(text.encode()).hexdigest()}, open(out, 'w'))\n"
+    "os._exit(0)\n")
+
+
+def test_two_processes_build_the_same_block_surfaces(tmp_path, monkeypatch):
+    """YADE's Polyhedra take their vertex order and the triangulation of coplanar faces
+    from CGAL, in an order that follows heap addresses, and so the process's history:
+    a YADE started with its parent's environment built a different surface for the
+    40-stone wall when that environment was 2,000 characters longer (this probe), and
+    near-critical runs then drifted apart (Fig. 3-40: 0.5627 in one `make validate`,
+    0.5598 in the next). The runner gives YADE the same environment, paths and fixed
+    addresses from any parent: runs from different parent environments must build
+    bit-identical bodies (this fails when the parent's environment is passed on)."""
+    script = tmp_path / "surface.py"
+    script.write_text(SURFACE_PROBE)
+    scene = load_scene(ROOT / "scenes" / "catalog" / "paper-fig3-opus-poligonale-40-2d.json")
+    f0, fL = dead_and_live(scene)
+    job = build_job(scene, find_interfaces(scene), f0, fL, P.check({}))
+    runs = []
+    for pad in (0, 2000, 5000):
+        monkeypatch.setenv("DEM_TEST_PADDING", "x" * pad)
+        monkeypatch.setenv("PATH", "/no/such/dir" * (pad // 1000) + ":" + os.environ.get("PATH", ""))
+        runs.append(run_job(job, script=script, timeout_s=300))
+    assert all(r["status"] == "done" for r in runs), runs
+    assert all(r["n"] == len(scene.blocks) for r in runs)
+    assert len({r["surface"] for r in runs}) == 1, [r["surface"] for r in runs]
+
+
 def test_running_bond_wall_3x3_against_the_nlp():
     """3 x 3 running-bond wall, L = H = 0.4, mu = 1.2. With friction (no dilatancy) the
     top corner - the end half block c1-3 with the top block c2-2 resting on it - rocks off
