@@ -144,6 +144,42 @@ def test_bisection_brackets_the_collapse_load(fake, rtol):
     assert fit["alpha_rigid"] == pytest.approx(0.3, abs=3 * rtol * 0.3)
 
 
+def _overshooting_trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
+    """fake_trial, but a load jump of more than 0.1 past 0.15 also 'collapses': the dynamic
+    overshoot of a big step read as a run-away (Fig. 3-40 at eps 1e-5 did this at 0.41,
+    its true collapse load being about 0.55)."""
+    if a_to - a_from > 0.1 and a_to > 0.15:
+        return {"outcome": pushover.COLLAPSE, "why": "fake overshoot", "steps": 10, "residual": 0.0,
+                "motion": 1.0, "ref": model.snapshot()}
+    return fake_trial(model, a_from, a_to, p, clock, steps_before, rerun)
+
+
+def test_a_collapse_only_a_jump_produced_is_tried_again(monkeypatch):
+    """True collapse load 0.55. Load steps 0.05, 0.125, 0.2375 hold; the jump 0.2375 ->
+    0.40625 'collapses' (the overshoot) and every bisection below it holds. The top of
+    that bracket must be tried again from the highest equilibrium, a small step, which
+    holds; loading goes on and the final bracket holds 0.55 (without the recheck it ends
+    at 0.406)."""
+    monkeypatch.setattr(pushover, "trial", _overshooting_trial)
+    monkeypatch.setattr(FakeModel, "critical", lambda self: 0.55)
+    p = P.check({"eps": [1e-5]})
+    run = pushover.pushover(FakeModel(), p["eps"], p)[0]
+    assert run["alpha_lo"] <= 0.55 < run["alpha_hi"], (run["alpha_lo"], run["alpha_hi"])
+    assert "recheck" in [h["phase"] for h in run["history"]]
+
+
+def test_a_true_collapse_after_a_jump_is_confirmed_once(fake, monkeypatch):
+    """Here the jump's collapse is real: alpha_c = 0.399, steps of 0.2, so 0.4 collapses
+    and every bisection below it holds. The recheck from the highest equilibrium
+    collapses too, and the bracket stands, with one extra trial."""
+    monkeypatch.setattr(FakeModel, "critical", lambda self: 0.399)
+    p = P.check({"eps": [1e-5], "step0": 0.2, "growth": 1.0})
+    run = pushover.pushover(fake(), p["eps"], p)[0]
+    assert run["alpha_lo"] <= 0.399 < run["alpha_hi"] == 0.4
+    phases = [h["phase"] for h in run["history"]]
+    assert phases.count("recheck") == 1 and phases[-1] == "recheck"
+
+
 def test_no_collapse_up_to_alpha_max_is_stable(fake, monkeypatch):
     monkeypatch.setattr(FakeModel, "critical", lambda self: math.inf)
     p = P.check({"eps": [1e-4], "alpha_max": 2.0})
