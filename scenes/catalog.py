@@ -123,9 +123,7 @@ def paper_entries() -> list:
                      "alpha = W/H = 0.8 bounds the answer from above.",
             "published": {"alpha": None, "source": src + ", Fig. 3",
                           "note": "The paper gives its values only in the figure; its text reports quasi-"
-                                  "monolithic collapse with the LP answer acceptable (LP close to NLP)."},
-            # measured: 15-17 minutes of DEM alone (its trials near collapse creep to the step budget)
-            **({"dem": {"timeout_s": 1500}} if n == 70 else {})}))
+                                  "monolithic collapse with the LP answer acceptable (LP close to NLP)."}}))
     out.append(PP.fig4_opus_africanum(meta={
         "title": "Fig. 4: 'opus africanum' wall, 57 stones, 138 joints", "figure": "Fig. 4", "source": src,
         "published": {"alpha": 0.106, "kind": "NLP from an arbitrary start", "source": src + ", Fig. 4a and text",
