@@ -7,8 +7,11 @@ yade_main.py job.json`` in a private directory with a time limit
 and return the ``dem`` result (:mod:`.api`). YADE side (YADE's own Python):
 :mod:`.yade_main`, :mod:`.yade_model`, :mod:`.pushover`.
 
+A second engine, LMGC90 (rigid contacts; ``run_scene(..., engine="lmgc90")``):
+host side :mod:`.lmgc`, LMGC90 side :mod:`.lmgc_main` and :mod:`.lmgc_model`.
+
 ``run_scene(scene_or_path, **knobs) -> dict`` is the entry point; the knobs
-and their defaults are in :mod:`.params`.
+and their defaults are in :mod:`.params` (:data:`.lmgc_main.KNOBS` for LMGC90).
 """
 from .api import run_scene
 from .params import DEFAULTS, KNOBS

@@ -37,8 +37,13 @@ from .runner import failed, run_job
 
 
 def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None, yade: str | None = None,
-              keep_dir: bool = False, contact: str = "vertex", **knobs) -> dict:
+              keep_dir: bool = False, contact: str = "vertex", engine: str = "yade", **knobs) -> dict:
     """DEM pushover of a scene (a :class:`limit.scene.Scene`, a scene dict or a path).
+
+    ``engine``: ``yade`` (compliant contacts, extrapolated to rigid ones; the default)
+    or ``lmgc90`` (rigid contacts, non-smooth contact dynamics: :mod:`dem_validation.lmgc`,
+    whose knobs are :data:`dem_validation.lmgc_main.KNOBS`; ``contact`` and ``yade``
+    do not apply).
 
     ``knobs``: see :data:`dem_validation.params.KNOBS` (ValueError for an unknown or
     bad one). ``timeout_s``: wall-clock limit of the YADE run (None: none).
@@ -51,6 +56,15 @@ def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None,
     """
     from limit.scene import Scene, load_scene
 
+    if engine not in ("yade", "lmgc90"):
+        raise ValueError(f"engine: expected yade or lmgc90, got {engine!r}")
+    if engine == "lmgc90":
+        from .lmgc import run_loaded_lmgc90
+        from .lmgc_main import knobs as lmgc_knobs
+
+        lmgc_knobs(knobs)  # bad knobs before the scene
+        scene = scene_or_path if isinstance(scene_or_path, Scene) else load_scene(scene_or_path)
+        return run_loaded_lmgc90(scene, knobs, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
     p = P.check(knobs, contact)
     scene = scene_or_path if isinstance(scene_or_path, Scene) else load_scene(scene_or_path)
     return run_loaded(scene, p, timeout_s=timeout_s, progress=progress, yade=yade, keep_dir=keep_dir,

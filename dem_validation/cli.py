@@ -14,18 +14,23 @@ import os
 import sys
 
 from . import params as P
+from .lmgc_main import KNOBS as LMGC_KNOBS
 
 
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m dem_validation", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
-    r = sub.add_parser("run", help="YADE quasi-static pushover of a scene")
+    r = sub.add_parser("run", help="quasi-static pushover of a scene in YADE (default) or LMGC90")
     r.add_argument("scene")
     r.add_argument("--json", metavar="OUT.json", help="write the result file")
     r.add_argument("--eps", metavar="E1,E2", help="settlement strains, e.g. 1e-5,2.5e-6 (default %s)" % "; ".join(
         f"{c}: " + ",".join(f"{e:g}" for e in d["eps"]) for c, d in P.BY_CONTACT.items()))
     r.add_argument("--contact", choices=("vertex", "polyhedra"), default="vertex",
                    help="block model: vertex spheres against faces (default) or YADE Polyhedra (slower)")
+    r.add_argument("--engine", choices=("yade", "lmgc90"), default="yade",
+                   help="yade: compliant contacts extrapolated to rigid ones (default); lmgc90: rigid contacts "
+                        "(non-smooth contact dynamics; --set takes its knobs: "
+                        + ", ".join(LMGC_KNOBS) + ")")
     r.add_argument("--timeout", type=float, default=1800.0, metavar="S", help="wall-clock limit in s (default 1800)")
     r.add_argument("--yade", metavar="PATH", help="YADE executable (default $DEM_YADE or yade on PATH)")
     r.add_argument("--set", action="append", default=[], metavar="KNOB=VALUE",
@@ -47,7 +52,10 @@ def _knobs(args) -> dict:
 
 
 def _progress(info):
-    if "step" in info:
+    if "outcome" in info:  # LMGC90: one line per trial
+        print(f"lmgc90: {info['phase']} alpha={info['alpha']:.5g} {info['outcome']} step={info['step']}",
+              file=sys.stderr, flush=True)
+    elif "step" in info:
         print(f"dem: eps={info.get('eps', 0):.0e} alpha={info['alpha']:.5g} step={info['step']} "
               f"residual={info['residual']:.2e} motion={info.get('motion', 0):.2e} m", file=sys.stderr, flush=True)
     elif info.get("phase") == "stiffness":
@@ -69,7 +77,9 @@ def summary(result: dict) -> str:
     dem = result["dem"]
     lines = [f"{result['scene']}: {result['n_blocks']} blocks ({result['n_free_blocks']} free), "
              f"{result['n_interfaces']} interfaces"]
-    if dem["status"] == "collapsed" and dem.get("alpha") is not None:
+    if dem["status"] == "collapsed" and dem.get("alpha") is not None and dem.get("engine") == "lmgc90":
+        lines.append(f"LMGC90 (rigid contacts) collapsed: alpha = {dem['alpha']:.5g} +- {dem['alpha_uncertainty']:.2g}")
+    elif dem["status"] == "collapsed" and dem.get("alpha") is not None:
         raw = ", ".join(_run_text(r) for r in dem["runs"])
         how = ("rigid-contact extrapolation of the two stiffest" if dem.get("extrapolation", {}).get("method")
                == "richardson" else "the stiffest run (no trend with the stiffness) of")
@@ -90,15 +100,22 @@ def cmd_run(args) -> int:
 
     from .api import run_loaded
 
+    from .lmgc import run_loaded_lmgc90
+    from .lmgc_main import knobs as lmgc_knobs
+
     try:
-        p = P.check(_knobs(args), args.contact)
+        p = lmgc_knobs(_knobs(args)) if args.engine == "lmgc90" else P.check(_knobs(args), args.contact)
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     scene = load_scene(args.scene)
     I = find_interfaces(scene)
-    dem = run_loaded(scene, p, timeout_s=args.timeout, progress=None if args.quiet else _progress,
-                     yade=args.yade, interfaces=I, contact=args.contact)
+    progress = None if args.quiet else _progress
+    if args.engine == "lmgc90":
+        dem = run_loaded_lmgc90(scene, p, timeout_s=args.timeout, progress=progress, interfaces=I)
+    else:
+        dem = run_loaded(scene, p, timeout_s=args.timeout, progress=progress, yade=args.yade, interfaces=I,
+                         contact=args.contact)
     result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
               "n_interfaces": len(I), "dem": dem}
     if args.json:  # first: a fault in the summary must not lose the result

@@ -1,6 +1,7 @@
-"""Host side: run one YADE job as a subprocess and read its result back.
+"""Host side: run one DEM job (YADE, or LMGC90 through ``lmgc_main.py``) as a
+subprocess and read its result back.
 
-Each run gets its own temporary directory (job file, result file, YADE's
+Each run gets its own temporary directory (job file, result file, the engine's
 stderr), its own process group, ``-j1`` (one OpenMP thread) and a wall-clock
 limit, so several runs at once do not collide. Every fault ends as a result
 dict with ``"status": "failed"`` and a one-line ``reason``: YADE missing,
@@ -16,6 +17,7 @@ import queue
 import shutil
 import signal
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -23,6 +25,10 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 SCRIPT = HERE / "yade_main.py"
+#: engine -> its name in messages
+ENGINES = {"yade": "YADE", "lmgc90": "LMGC90"}
+#: the modules that run in the LMGC90 process (numpy, scipy and compas_lmgc90 only)
+LMGC_SIDE = ("lmgc_main.py", "lmgc_model.py")
 #: the modules that run inside YADE (they import each other, never the project's packages);
 #: each run gets copies in its work directory, so YADE sees the same relative paths from any clone
 YADE_SIDE = ("yade_main.py", "pushover.py", "yade_model.py", "yade_polyhedra.py", "yade_vertex.py")
@@ -113,34 +119,44 @@ def _reader(stream, q):
 
 
 def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = None, progress=None,
-            keep_dir: bool = False, script: Path | None = None) -> dict:
-    """Run ``job`` (see dem_validation.job) in YADE; returns the YADE side's result dict
-    or a failed one. ``progress(dict)`` receives the progress records
-    (alpha, step, residual, ...). ``timeout_s``: wall-clock limit (None: no limit)."""
-    exe = find_yade(yade)
-    if exe is None:
-        return failed(f"YADE executable not found ({yade or os.environ.get('DEM_YADE') or 'yade'!r}"
-                      " is not on PATH or not executable)")
+            keep_dir: bool = False, script: Path | None = None, engine: str = "yade") -> dict:
+    """Run ``job`` (see dem_validation.job) in YADE (``engine="yade"``) or LMGC90
+    (``"lmgc90"``, the job with ``gravity``: :mod:`dem_validation.lmgc_main`); returns
+    the engine side's result dict or a failed one. ``progress(dict)`` receives the
+    progress records (alpha, step, ...). ``timeout_s``: wall-clock limit (None: no limit)."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
+    label = ENGINES[engine]
+    if engine == "yade":
+        exe = find_yade(yade)
+        if exe is None:
+            return failed(f"YADE executable not found ({yade or os.environ.get('DEM_YADE') or 'yade'!r}"
+                          " is not on PATH or not executable)")
+    else:
+        exe = sys.executable
     if timeout_s is not None and timeout_s <= 0:
-        return failed("time limit reached before YADE could start")
+        return failed(f"time limit reached before {label} could start")
     work = Path(tempfile.mkdtemp(prefix="dem-"))
     t0 = time.monotonic()
     try:
         job = dict(job, result="result.json")
         (work / "job.json").write_text(json.dumps(job))
-        for name in YADE_SIDE:
+        for name in (YADE_SIDE if engine == "yade" else LMGC_SIDE):
             shutil.copyfile(HERE / name, work / name)
-        entry = Path(script).name if script else SCRIPT.name
+        entry = Path(script).name if script else (SCRIPT.name if engine == "yade" else LMGC_SIDE[0])
         if script:
             shutil.copyfile(script, work / entry)
         env = yade_env(exe, work)
-        cmd = no_aslr_prefix() + [exe, "-n", "-x", "-j1", "-f1", entry, "job.json"]
+        if engine == "yade":
+            cmd = no_aslr_prefix() + [exe, "-n", "-x", "-j1", "-f1", entry, "job.json"]
+        else:
+            cmd = [exe, entry, "job.json"]
         with open(work / "yade.err", "w") as err:
             try:
                 proc = subprocess.Popen(cmd, cwd=work, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                         stderr=err, text=True, env=env, start_new_session=True)
             except OSError as exc:
-                return failed(f"cannot start YADE ({exe}): {exc.strerror or exc}")
+                return failed(f"cannot start {label} ({exe}): {exc.strerror or exc}")
             q: queue.Queue = queue.Queue()
             th = threading.Thread(target=_reader, args=(proc.stdout, q), daemon=True)
             th.start()
@@ -149,7 +165,7 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
         elapsed = time.monotonic() - t0
         if timed_out:
             cpu = getattr(proc, "cpu_at_kill", None)
-            return failed(f"timed out after {elapsed:.1f} s (time limit {timeout_s:g} s); YADE was killed",
+            return failed(f"timed out after {elapsed:.1f} s (time limit {timeout_s:g} s); {label} was killed",
                           time_s=elapsed, **({"cpu_s": cpu} if cpu is not None else {}))
         rc = proc.returncode
         result_path = work / "result.json"
@@ -159,11 +175,11 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
                     sig = signal.Signals(-rc).name
                 except ValueError:
                     sig = str(-rc)
-                why = f"YADE crashed (signal {sig})"
+                why = f"{label} crashed (signal {sig})"
             elif rc != 0:
-                why = f"YADE exited with status {rc}"
+                why = f"{label} exited with status {rc}"
             else:
-                why = "YADE exited without writing a result"
+                why = f"{label} exited without writing a result"
             last = _tail(work / "yade.err")
             return failed(why + (f": {last}" if last else ""), time_s=elapsed)
         try:
@@ -175,7 +191,8 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
         if not _finite(res):
             return failed("non-finite number in the DEM result", time_s=elapsed)
         res["wall_s"] = elapsed
-        res["fixed_addresses"] = bool(no_aslr_prefix())
+        if engine == "yade":
+            res["fixed_addresses"] = bool(no_aslr_prefix())
         return res
     finally:
         if keep_dir:

@@ -1,0 +1,129 @@
+"""LMGC90 entry script: ``python lmgc_main.py JOB.json`` (run by the host's runner in
+its own process: LMGC90 keeps one simulation per process, and a fatal error in
+its Fortran core ends the process).
+
+Reads the job (the DEM job of :mod:`dem_validation.job` plus ``gravity`` and
+the ``rigid`` knobs of :data:`KNOBS`), brackets the collapse load factor by
+:func:`search` with a fresh simulation per trial (rigid contacts: no stiffness,
+no extrapolation) and writes ``job["result"]``:
+``{"status": "done"|"failed", "runs": [one run], "reason", "time_s"}``.
+Progress goes to stdout as lines ``DEMPROGRESS {json}``.
+"""
+import json
+import math
+import os
+import sys
+import time
+
+#: name -> (default, meaning). Times in s, after the issue's measured recipe: gravity alone,
+#: then the live load ramped in and held; collapse = a block moved 1e-3 x the scene size.
+KNOBS = {
+    "dt": (1e-3, "time step (s); at 1e-2 a 55-block wall at rest drifted 1.8 mm in 3 s, at 1e-3 3 um"),
+    "t_load": (0.1, "gravity alone before the live load starts (s)"),
+    "t_ramp": (0.05, "the live load rises linearly to alpha x fL over this (s)"),
+    "t_hold": (1.0, "then it is held this long (s)"),
+    "collapse_rel": (1e-3, "collapse: a block moved this x the size of the free part of the scene"),
+    "step0": (0.05, "first trial alpha; the trials double until one collapses"),
+    "alpha_max": (10.0, "no collapse up to this alpha: status stable"),
+    "alpha_rtol": (1e-3, "bisection stops when (hi - lo) <= alpha_rtol x hi"),
+}
+
+
+def search(trial, p: dict, emit=None) -> dict:
+    """Bracket alpha with ``trial(alpha) -> {"outcome": "stable"|"collapse", ...}``, each
+    trial from rest: alpha = 0 first (a collapse there is a dead-load collapse), then
+    step0, 2 step0, ... until a collapse (or alpha_max), then bisection. Returns the run:
+    status (collapsed|stable), alpha (bracket midpoint), alpha_lo, alpha_hi,
+    dead_load_collapse, history (one record per trial), steps, displacement (the free
+    blocks' motion in the last collapsing trial)."""
+    history, lo, hi, collapse = [], 0.0, None, None
+
+    def run(a, phase):
+        t = trial(a)
+        history.append({"phase": phase, "alpha": a, "outcome": t["outcome"], "steps": t["steps"],
+                        "motion": t["motion"], "why": f"moved {t['motion']:.3g} m in {t['time']:.3g} s"})
+        if emit is not None:
+            emit({"phase": phase, "alpha": a, "outcome": t["outcome"], "step": sum(h["steps"] for h in history)})
+        return t
+
+    def result(status, dead=False):
+        alpha = 0.5 * (lo + hi) if status == "collapsed" and hi is not None and not dead else None
+        return {"eps": 0.0, "status": status, "alpha": alpha, "alpha_lo": None if dead else lo,
+                "alpha_hi": hi, "dead_load_collapse": dead, "history": history,
+                "steps": sum(h["steps"] for h in history), "displacement": collapse}
+
+    t = run(0.0, "settle")
+    if t["outcome"] != "stable":
+        collapse, hi = t["displacement"], 0.0
+        return result("collapsed", dead=True)
+    a = p["step0"]
+    while True:
+        t = run(a, "load")
+        if t["outcome"] != "stable":
+            hi, collapse = a, t["displacement"]
+            break
+        lo = a
+        if a >= p["alpha_max"]:
+            return result("stable")
+        a = min(2.0 * a, p["alpha_max"])
+    while hi - lo > p["alpha_rtol"] * hi:
+        a = 0.5 * (lo + hi)
+        t = run(a, "bisect")
+        if t["outcome"] == "stable":
+            lo = a
+        else:
+            hi, collapse = a, t["displacement"]
+    return result("collapsed")
+
+
+def knobs(given: dict) -> dict:
+    """Defaults updated with ``given``; raises ValueError naming a bad knob."""
+    unknown = sorted(set(given) - set(KNOBS))
+    if unknown:
+        raise ValueError(f"unknown LMGC90 knob(s): {', '.join(unknown)} (known: {', '.join(KNOBS)})")
+    p = {k: v[0] for k, v in KNOBS.items()}
+    for k, v in given.items():
+        try:
+            p[k] = float(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"{k}: expected a number, got {v!r}") from None
+        if not (math.isfinite(p[k]) and p[k] > 0):
+            raise ValueError(f"{k}: must be a positive number, got {v!r}")
+    return p
+
+
+def emit(info):
+    print("DEMPROGRESS " + json.dumps(info), flush=True)
+
+
+def main(argv) -> int:
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # lmgc_model beside this file
+    job_path = argv[1] if len(argv) > 1 else ""
+    try:
+        with open(job_path) as fh:
+            job = json.load(fh)
+    except (OSError, ValueError) as exc:
+        print(f"cannot read the job file {job_path!r}: {exc}", file=sys.stderr)
+        return 3
+    out = os.path.join(os.path.dirname(job_path), job.get("result", "result.json"))
+    t0 = time.time()
+    try:
+        p = knobs(job.get("rigid", {}))
+        from lmgc_model import RigidScene
+
+        scene = RigidScene(job, job["gravity"], p["dt"])
+        run = search(lambda a: scene.trial(a, p), p, emit)
+        res = {"status": "done", "runs": [run], "params": p}
+    except ImportError as exc:
+        res = {"status": "failed", "reason": f"LMGC90 is not installed (compas_lmgc90): {exc}"}
+    except (ValueError, FloatingPointError) as exc:
+        res = {"status": "failed", "reason": str(exc)}
+    res["time_s"] = time.time() - t0
+    with open(out + ".tmp", "w") as fh:
+        json.dump(res, fh)
+    os.replace(out + ".tmp", out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

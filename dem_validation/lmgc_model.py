@@ -1,0 +1,206 @@
+"""LMGC90 side: one scene as rigid polyhedra in LMGC90 (non-smooth contact
+dynamics, Jean & Dubois), one load trial per process-wide simulation.
+
+Runs inside the LMGC90 process (``lmgc_main.py``); imports only numpy, scipy
+and the compiled core ``compas_lmgc90._lmgc90`` (PyPI ``compas_lmgc90``, used
+without its Python wrapper). The job is the host's DEM job
+(:mod:`dem_validation.job`): world vertices (a 2D scene's blocks as prisms),
+masses, fixed and blocked dofs, per free block the dead and live generalised
+forces ``[Fx, Fy, Fz, Mx, My, Mz]`` (N, N m) at its centroid, friction.
+
+LMGC90's gravity is fixed at (0, 0, -9.81) m/s^2, so the scene is turned by
+a rotation Q that takes its "up" (-g / |g|) to +z (a 2D scene's y axis), and
+each block gets the density m |g| / (9.81 V): its weight in LMGC90 is then the
+scene's m |g|. Dead loads other than the weight and the live load alpha x fL
+are driven forces at the centre of inertia. Contacts: LMGC90's face-to-face
+polyhedra contacts (PRPRx) with Coulomb friction ``IQS_CLB`` (one friction per
+model: per-pair friction cannot be expressed), found once at the first step
+(the wheel's detection is fixed), so a trial follows only the onset of a
+collapse. Blocked dofs (a 2D scene's out-of-plane freedoms) are driven
+velocities of zero; they must lie along the turned axes.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.spatial import ConvexHull
+from scipy.spatial.transform import Rotation
+
+G_LMGC = 9.81  # m/s^2, hard-wired in the compas_lmgc90 wrapper
+LETTERS = "xyzXYZ"  # blocked dofs: translations x y z, rotations X Y Z (scene axes)
+
+
+def up_rotation(gravity) -> np.ndarray:
+    """(3, 3) rotation Q with Q @ up = e_z, up = -gravity / |gravity| (3 or 2 components,
+    a 2D gravity is padded with z = 0)."""
+    g = np.zeros(3)
+    g[:len(gravity)] = gravity
+    up = -g / np.linalg.norm(g)
+    ez = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(up, ez)
+    s, c = np.linalg.norm(axis), float(up @ ez)
+    if s < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    return Rotation.from_rotvec(axis / s * math.atan2(s, c)).as_matrix()
+
+
+def outward_triangles(v: np.ndarray) -> np.ndarray:
+    """(k, 3) triangles (0-based) of the convex hull of the points ``v`` (n, 3), wound
+    outwards (counter-clockwise seen from outside)."""
+    hull = ConvexHull(v)
+    c = v.mean(axis=0)
+    tris = hull.simplices.copy()
+    for t in tris:
+        a, b, d = v[t]
+        if np.cross(b - a, d - a) @ (a - c) < 0:
+            t[1], t[2] = t[2], t[1]
+    return tris
+
+
+class RigidScene:
+    """The job's geometry and loads in LMGC90's frame; :meth:`trial` runs one load case."""
+
+    def __init__(self, job: dict, gravity, dt: float, alert_rel: float = 0.01):
+        import compas_lmgc90._lmgc90 as core  # noqa: F401  (fails early when the package is missing)
+
+        self.job, self.dt = job, float(dt)
+        self.Q = up_rotation(gravity)
+        g = float(job["gravity_norm"])
+        self.blocks = job["blocks"]
+        self.free = [i for i, b in enumerate(self.blocks) if not b["fixed"]]
+        self.verts, self.volume, self.centroid = [], [], []
+        for b in self.blocks:
+            v = np.asarray(b["vertices"], dtype=float) @ self.Q.T
+            hull = ConvexHull(v)
+            self.verts.append(v)
+            self.volume.append(float(hull.volume))
+            self.centroid.append(_volume_centroid(v, outward_triangles(v)))
+        self.density = [round(b["mass"] * g / (G_LMGC * vol), 9) for b, vol in zip(self.blocks, self.volume)]
+        self.radius = [float(np.max(np.linalg.norm(v - c, axis=1))) for v, c in zip(self.verts, self.centroid)]
+        lmin = min(float(np.ptp(v, axis=0).max()) for v in self.verts)
+        self.alert = alert_rel * lmin
+        f0 = np.asarray(job["f0"], dtype=float).reshape(-1, 6)
+        fL = np.asarray(job["fL"], dtype=float).reshape(-1, 6)
+        self.f0 = {i: self._turn(f) for i, f in zip(self.free, f0)}
+        self.fL = {i: self._turn(f) for i, f in zip(self.free, fL)}
+        for i in self.free:  # the weight is LMGC90's gravity: keep the rest of the dead load
+            self.f0[i][2] += self.blocks[i]["mass"] * g
+        self.blocked = {i: self._blocked_dofs(self.blocks[i].get("blocked", "")) for i in self.free}
+        pairs = job.get("friction_pairs") or []
+        mus = {float(job["friction"])} | {float(mu) for _, _, mu in pairs}
+        if len(mus) > 1:
+            raise ValueError(f"LMGC90 (compas_lmgc90 0.1.11) takes one friction per model; this scene has "
+                             f"{len(mus)}: {', '.join(f'{m:g}' for m in sorted(mus))}")
+        self.mu = mus.pop()
+
+    def _turn(self, f) -> np.ndarray:
+        return np.concatenate([self.Q @ f[:3], self.Q @ f[3:]])
+
+    def _blocked_dofs(self, letters: str) -> list[int]:
+        """LMGC90 dof numbers (1..6: Vx Vy Vz Rx Ry Rz) of the scene dofs named by ``letters``;
+        raises ValueError when a blocked scene axis is not along a turned axis."""
+        out = []
+        for ch in letters:
+            k = LETTERS.index(ch)
+            axis = self.Q[:, k % 3]
+            j = int(np.argmax(np.abs(axis)))
+            if abs(abs(axis[j]) - 1.0) > 1e-9:
+                raise ValueError(f"blocked dof {ch!r} is not along an axis once the scene is turned to LMGC90's "
+                                 "vertical gravity")
+            out.append(j + 1 + 3 * (k // 3))
+        return sorted(set(out))
+
+    def size(self) -> float:
+        """Diagonal of the free blocks' bounding box (m)."""
+        v = np.vstack([self.verts[i] for i in self.free] or self.verts)
+        return float(np.linalg.norm(np.ptp(v, axis=0)))
+
+    def build(self, alpha: float, t_load: float, t_ramp: float):
+        """A fresh LMGC90 simulation (the previous one is superseded): the live load rises
+        linearly from 0 at ``t_load`` to alpha x fL at ``t_load + t_ramp`` (s)."""
+        from compas_lmgc90 import _lmgc90
+
+        sim = _lmgc90.LMGC90Solver()
+        sim.initialize(self.dt, 0.5, False)
+        sim.add_one_tact_behav("iqsc0", "IQS_CLB", [self.mu])
+        dens = sorted(set(self.density))
+        names = {d: f"s{k + 1:0>4}" for k, d in enumerate(dens)}
+        sim.set_materials(np.asarray(dens, dtype=float))
+        sim.set_see_tables(self.alert)
+        sim.set_nb_bodies(len(self.blocks))
+        t_end = 1e9
+        for i, b in enumerate(self.blocks):
+            v = self.verts[i] - self.centroid[i]
+            tris = outward_triangles(self.verts[i])
+            vdrv, fdrv = {}, {}
+            if b["fixed"]:
+                vdrv = {k: np.array([0.0, 0, 0, 0, 1, 0]) for k in range(1, 7)}
+            else:
+                vdrv = {k: np.array([0.0, 0, 0, 0, 1, 0]) for k in self.blocked[i]}
+                for k in range(6):
+                    if k + 1 in vdrv:  # a blocked dof takes no force
+                        continue
+                    dead, live = float(self.f0[i][k]), float(alpha * self.fL[i][k])
+                    if abs(dead) + abs(live) > 0.0:
+                        fdrv[k + 1] = np.array([[0.0, t_load, t_load + t_ramp, t_end],
+                                                [dead, dead, dead + live, dead + live]])
+            sim.set_one_polyr(names[self.density[i]], self.centroid[i].tolist(), (tris + 1).ravel().tolist(),
+                              v.ravel().tolist(), len(vdrv), len(fdrv))
+            for k, val in vdrv.items():
+                sim.set_drvdof(i + 1, k, val.ravel().tolist(), True, False)
+            for k, val in fdrv.items():
+                sim.set_drvdof(i + 1, k, val.ravel().tolist(), False, True)
+        sim.close_before_computing()
+        return sim
+
+    def trial(self, alpha: float, p: dict) -> dict:
+        """One load case from rest: gravity alone for ``t_load`` s, the live load ramped to
+        alpha over ``t_ramp`` s, held for ``t_hold`` s. Collapse when a free block moved
+        more than ``collapse_rel`` x the scene size (translation plus rotation x its radius)
+        from its start. Returns outcome (stable|collapse), motion (m), steps, time (s) and
+        the free blocks' (u, rotation vector) in scene axes at the end."""
+        t_load, t_ramp, t_hold = p["t_load"], p["t_ramp"], p["t_hold"]
+        sim = self.build(alpha, t_load, t_ramp)
+        init = sim.get_initial_state()
+        x0 = np.asarray(init.init_bodies, dtype=float)
+        F0 = [np.asarray(f, dtype=float).reshape(3, 3) for f in init.init_body_frames]
+        limit = p["collapse_rel"] * self.size()
+        n_steps = int(math.ceil((t_load + t_ramp + t_hold) / self.dt))
+        motion, steps, state = 0.0, 0, None
+        for steps in range(1, n_steps + 1):
+            state = sim.compute_one_step()
+            motion = self._motion(state, x0, F0)
+            if not math.isfinite(motion):
+                raise FloatingPointError(f"non-finite block position at t = {steps * self.dt:.3g} s")
+            if motion > limit:
+                break
+        disp = self._displacements(state, x0, F0) if state is not None else {}
+        return {"alpha": alpha, "outcome": "collapse" if motion > limit else "stable", "motion": motion,
+                "steps": steps, "time": steps * self.dt, "displacement": disp}
+
+    def _moves(self, state, x0, F0):
+        x = np.asarray(state.bodies, dtype=float)
+        for i in self.free:
+            F = np.asarray(state.body_frames[i], dtype=float).reshape(3, 3)
+            yield i, x[i] - x0[i], Rotation.from_matrix(F.T @ F0[i]).as_rotvec()
+
+    def _motion(self, state, x0, F0) -> float:
+        return max((float(np.linalg.norm(u) + np.linalg.norm(r) * self.radius[i])
+                    for i, u, r in self._moves(state, x0, F0)), default=0.0)
+
+    def _displacements(self, state, x0, F0) -> dict:
+        """{block id: [ux, uy, uz, rx, ry, rz]} in scene axes (m, rad)."""
+        return {str(self.blocks[i]["id"]): (self.Q.T @ u).tolist() + (self.Q.T @ r).tolist()
+                for i, u, r in self._moves(state, x0, F0)}
+
+
+def _volume_centroid(v: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """Volume centroid of the convex polyhedron with vertices ``v`` and outward triangles."""
+    o = v.mean(axis=0)
+    vol, acc = 0.0, np.zeros(3)
+    for a, b, c in v[tris]:
+        dv = np.dot(a - o, np.cross(b - o, c - o)) / 6.0
+        vol += dv
+        acc += dv * (o + a + b + c) / 4.0
+    return acc / vol
