@@ -16,8 +16,10 @@ from .runner import failed, run_job
 
 
 def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep_dir=False,
-                      interfaces=None) -> dict:
-    """LMGC90 pushover of a loaded :class:`limit.scene.Scene`; every fault is a failed dict."""
+                      interfaces=None, hint: float | None = None) -> dict:
+    """LMGC90 pushover of a loaded :class:`limit.scene.Scene`; every fault is a failed dict.
+    ``hint``: a guessed alpha (the limit analysis's) to start the bracket from; it saves
+    trials, it does not enter the result."""
     from limit.interfaces import find_interfaces
     from limit.loads import dead_and_live
 
@@ -30,6 +32,8 @@ def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep
     f0, fL = dead_and_live(scene)
     job = build_job(scene, I, f0, fL, {}, contact="polyhedra")
     job.update(gravity=[float(x) for x in scene.gravity], rigid=p)
+    if hint is not None and hint > 0:
+        job["hint"] = float(hint)
     raw = run_job(job, engine="lmgc90", timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
     out = assemble_rigid(raw)
     out.update(time_s=time.monotonic() - t0, **base)

@@ -26,13 +26,17 @@ KNOBS = {
     "step0": (0.05, "first trial alpha; the trials double until one collapses"),
     "alpha_max": (10.0, "no collapse up to this alpha: status stable"),
     "alpha_rtol": (1e-3, "bisection stops when (hi - lo) <= alpha_rtol x hi"),
+    "hint_margin": (0.02, "with a guessed alpha (job 'hint'), the first trials are this far (relative) "
+                          "below and above it"),
 }
 
 
-def search(trial, p: dict, emit=None) -> dict:
+def search(trial, p: dict, emit=None, hint=None) -> dict:
     """Bracket alpha with ``trial(alpha) -> {"outcome": "stable"|"collapse", ...}``, each
     trial from rest: alpha = 0 first (a collapse there is a dead-load collapse), then
-    step0, 2 step0, ... until a collapse (or alpha_max), then bisection. Returns the run:
+    step0, 2 step0, ... until a collapse (or alpha_max), then bisection. With a guess
+    ``hint`` (> 0), the first trials are (1 -/+ hint_margin) x hint and the steps grow by
+    (1 + 2 hint_margin): a guess only saves trials, the bracket is the trials' own. Returns the run:
     status (collapsed|stable), alpha (bracket midpoint), alpha_lo, alpha_hi,
     dead_load_collapse, history (one record per trial), steps, displacement (the free
     blocks' motion in the last collapsing trial)."""
@@ -57,7 +61,14 @@ def search(trial, p: dict, emit=None) -> dict:
         collapse, hi = t["displacement"], 0.0
         return result("collapsed", dead=True)
     a = p["step0"]
-    while True:
+    if hint:  # a guess (the limit analysis): try just below and just above it first
+        a = min((1.0 - p["hint_margin"]) * hint, p["alpha_max"])
+        t = run(a, "load")
+        if t["outcome"] != "stable":
+            hi, collapse = a, t["displacement"]
+        else:
+            lo, a = a, min((1.0 + p["hint_margin"]) * hint, p["alpha_max"])
+    while hi is None:
         t = run(a, "load")
         if t["outcome"] != "stable":
             hi, collapse = a, t["displacement"]
@@ -65,7 +76,7 @@ def search(trial, p: dict, emit=None) -> dict:
         lo = a
         if a >= p["alpha_max"]:
             return result("stable")
-        a = min(2.0 * a, p["alpha_max"])
+        a = min((1.0 + 2.0 * p["hint_margin"]) * a if hint else 2.0 * a, p["alpha_max"])
     while hi - lo > p["alpha_rtol"] * hi:
         a = 0.5 * (lo + hi)
         t = run(a, "bisect")
@@ -112,7 +123,7 @@ def main(argv) -> int:
         from lmgc_model import RigidScene
 
         scene = RigidScene(job, job["gravity"], p["dt"])
-        run = search(lambda a: scene.trial(a, p), p, emit)
+        run = search(lambda a: scene.trial(a, p), p, emit, hint=job.get("hint"))
         res = {"status": "done", "runs": [run], "params": p}
     except ImportError as exc:
         res = {"status": "failed", "reason": f"LMGC90 is not installed (compas_lmgc90): {exc}"}

@@ -124,6 +124,19 @@ def test_search_brackets_the_collapse_load(crit):
     assert seen[0] == 0.0 and len(seen) < 30
 
 
+@pytest.mark.parametrize("hint", [0.3, 0.25, 0.5, 0.01])
+def test_a_guess_saves_trials_but_never_sets_the_bracket(hint):
+    """The true value 0.3: a good guess brackets it in 3 trials plus the bisection, a
+    wrong one (too low or too high) still ends with the trials' own bracket."""
+    p = knobs({})
+    trial, seen = _fake(0.3)
+    run = search(trial, p, hint=hint)
+    assert run["alpha_lo"] <= 0.3 < run["alpha_hi"]
+    assert run["alpha_hi"] - run["alpha_lo"] <= p["alpha_rtol"] * run["alpha_hi"]
+    if hint == 0.3:
+        assert seen[1:3] == [pytest.approx(0.294), pytest.approx(0.306)] and len(seen) <= 9
+
+
 def test_search_reports_a_dead_load_collapse_and_a_stable_scene():
     p = knobs({"alpha_max": 2.0})
     run = search(_fake(1.0, dead=True)[0], p)
