@@ -190,9 +190,13 @@ class RigidScene:
                     for i, u, r in self._moves(state, x0, F0)), default=0.0)
 
     def _displacements(self, state, x0, F0) -> dict:
-        """{block id: [ux, uy, uz, rx, ry, rz]} in scene axes (m, rad)."""
-        return {str(self.blocks[i]["id"]): (self.Q.T @ u).tolist() + (self.Q.T @ r).tolist()
-                for i, u, r in self._moves(state, x0, F0)}
+        """{block id: motion} in scene axes (m, rad), laid out like the LP mechanism:
+        [ux, uy, uz, rx, ry, rz] in 3D, [ux, uy, rz] in 2D."""
+        out = {}
+        for i, u, r in self._moves(state, x0, F0):
+            m = (self.Q.T @ u).tolist() + (self.Q.T @ r).tolist()
+            out[str(self.blocks[i]["id"])] = [m[0], m[1], m[5]] if self.job.get("dim") == 2 else m
+        return out
 
 
 def _volume_centroid(v: np.ndarray, tris: np.ndarray) -> np.ndarray:

@@ -96,7 +96,32 @@ def explain(r) -> list[str]:
         s.append(f"The DEM failed: {r['dem_reason']}")
     elif ds == "stable":
         s.append(f"The DEM did not collapse: {r['dem_reason']}")
+    s += lmgc_lines(r)
     return s
+
+
+def lmgc_lines(r) -> list[str]:
+    """What the LMGC90 run (rigid contacts) says, when it ran."""
+    ls = r.get("lmgc_status")
+    if not isinstance(ls, str) or not ls:  # LMGC90 did not run (None, or NaN from the table)
+        return []
+    if ls == "collapsed" and _finite(r.get("lmgc_alpha")):
+        txt = f"LMGC90 (rigid blocks, non-smooth contact dynamics) collapses at {r['lmgc_alpha']:.4g}"
+        if _finite(r.get("lmgc_uncertainty")):
+            txt += f" (+/- {r['lmgc_uncertainty']:.2g})"
+        if _finite(r.get("lmgc_vs_la")):
+            txt += f", {100 * r['lmgc_vs_la']:+.1f} % from the frictional limit analysis"
+        if _finite(r.get("dem_alpha")):
+            txt += f", {100 * (r['lmgc_alpha'] / r['dem_alpha'] - 1):+.1f} % from YADE"
+        out = [txt + "."]
+        if _finite(r.get("lmgc_similarity")):
+            out.append(f"Mechanism similarity, LA {r['mech_kind'].upper()} vs LMGC90: {r['lmgc_similarity']:.2f}.")
+        return out
+    if ls == "collapsed" and r.get("lmgc_dead"):
+        return ["LMGC90 collapses under the dead load alone."]
+    if ls in FAIL:
+        return [f"LMGC90 failed: {r['lmgc_reason']}"]
+    return [f"LMGC90: {ls}" + (f" ({r['lmgc_reason']})" if r.get("lmgc_reason") else "")]
 
 
 def dem_disagreement(r) -> str:
@@ -184,7 +209,7 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
 
 
 HEAD = ["scene", "dim", "blocks", "joints", "reference", "published", "LP", "NLP", "MILP", "DEM", "LP err", "NLP err",
-        "DEM vs LA", "LP s", "NLP s", "DEM s", "similarity"]
+        "DEM vs LA", "LP s", "NLP s", "DEM s", "similarity", "LMGC90", "LMGC90 vs LA", "LMGC90 s"]
 
 
 def _cells(r):
@@ -203,7 +228,9 @@ def _cells(r):
             st(r["lp_alpha"], r["lp_status"]), st(r["nlp_alpha"], r["nlp_status"]),
             st(r["global_alpha"], r["global_status"]), st(r["dem_alpha"], r["dem_status"]),
             _pct(r["lp_err"]), _pct(r["nlp_err"]), _pct(r["dem_vs_la"]), _num(r["lp_time_s"], ".2f"),
-            _num(r["nlp_time_s"], ".2f"), _num(r["dem_time_s"], ".0f"), _num(r["mech_similarity"], ".2f")]
+            _num(r["nlp_time_s"], ".2f"), _num(r["dem_time_s"], ".0f"), _num(r["mech_similarity"], ".2f"),
+            st(r.get("lmgc_alpha"), r.get("lmgc_status")) if isinstance(r.get("lmgc_status"), str) else "–",
+            _pct(r.get("lmgc_vs_la")), _num(r.get("lmgc_time_s"), ".0f")]
 
 
 def _html(df, mech_png, stamp, wall_time, cap_png=None):
@@ -219,12 +246,12 @@ def _html(df, mech_png, stamp, wall_time, cap_png=None):
          "mechanisms for ParaView: <code>vtk/&lt;scene&gt;.vtk</code>; the table: <code>results.csv</code>, "
          "<code>results.parquet</code>.</p>",
          "<table><tr>" + "".join(f"<th>{c}</th>" for c in HEAD) + "</tr>"]
-    status_cols = {6: "lp_status", 7: "nlp_status", 8: "global_status", 9: "dem_status"}
+    status_cols = {6: "lp_status", 7: "nlp_status", 8: "global_status", 9: "dem_status", 17: "lmgc_status"}
     for _, r in df.iterrows():
         cells = _cells(r)
         row = []
         for k, c in enumerate(cells):
-            cls = "name" if k == 0 else _cls(r[status_cols[k]]) if k in status_cols else ""
+            cls = "name" if k == 0 else _cls(r.get(status_cols[k])) if k in status_cols else ""
             if k == 0:
                 c = f"<a href='#{e(c)}'>{e(c)}</a>"
             else:

@@ -2,12 +2,15 @@
 
 ``la``: the limit analysis (LP, then the NLP where the scene needs it, with the
 global MILP and the iterative LP as independent checks on small scenes);
-``dem``: the YADE pushover. A stage never raises: any fault comes back as a
+``dem``: the YADE pushover; ``lmgc``: the LMGC90 pushover (rigid contacts,
+:mod:`dem_validation.lmgc`). A stage never raises: any fault comes back as a
 result with ``status`` "failed" and its reason, so the run goes on.
 
 A scene steers its DEM stage through ``meta.dem``: ``{"run": false, "reason":
 "..."}`` opts out (the reason is shown in the report); ``{"knobs": {...},
-"timeout_s": s}`` passes pushover knobs (:mod:`dem_validation.params`).
+"timeout_s": s}`` passes pushover knobs (:mod:`dem_validation.params`);
+``meta.lmgc`` does the same for the LMGC90 stage (knobs:
+:data:`dem_validation.lmgc_main.KNOBS`).
 """
 from __future__ import annotations
 
@@ -19,6 +22,7 @@ GLOBAL_MAX_FREE = 12
 ITERATIVE_MAX_FREE = 80
 GLOBAL_TIME_LIMIT = 60.0
 DEM_TIMEOUT = 900.0
+LMGC_TIMEOUT = 900.0
 
 
 def la_options(scene_data: dict) -> dict:
@@ -30,6 +34,12 @@ def dem_options(scene_data: dict) -> dict:
     spec = dict((scene_data.get("meta") or {}).get("dem") or {})
     return {"run": spec.get("run", True), "reason": spec.get("reason", ""), "knobs": spec.get("knobs", {}),
             "timeout_s": spec.get("timeout_s", DEM_TIMEOUT)}
+
+
+def lmgc_options(scene_data: dict) -> dict:
+    spec = dict((scene_data.get("meta") or {}).get("lmgc") or {})
+    return {"run": spec.get("run", True), "reason": spec.get("reason", ""), "knobs": spec.get("knobs", {}),
+            "timeout_s": spec.get("timeout_s", LMGC_TIMEOUT)}
 
 
 def run_la(path: str, options: dict) -> dict:
@@ -71,4 +81,29 @@ def run_dem(path: str, options: dict) -> dict:
     return res
 
 
-STAGES = {"la": (la_options, run_la), "dem": (dem_options, run_dem)}
+def run_lmgc(path: str, options: dict) -> dict:
+    """The LMGC90 result for the scene file at ``path`` (or the opt-out record). The
+    associative LP's alpha (a fraction of a second) is its first guess: it saves trials,
+    the bracket is the trials' own."""
+    t0 = time.perf_counter()
+    if not options["run"]:
+        return {"status": "skipped", "alpha": None, "reason": options["reason"] or "opted out in meta.lmgc",
+                "time_s": 0.0, "engine": "lmgc90"}
+    try:
+        from dem_validation.lmgc import run_loaded_lmgc90
+        from limit.analysis import analyse
+        from limit.scene import load_scene
+
+        scene = load_scene(path)
+        try:
+            hint = (analyse(scene, method="lp").get("lp") or {}).get("alpha")
+        except Exception:  # noqa: BLE001 - no guess: the search starts from step0
+            hint = None
+        res = run_loaded_lmgc90(scene, options["knobs"], timeout_s=options["timeout_s"], hint=hint)
+    except Exception as exc:  # noqa: BLE001 - a fault is a result, never a crash of the run
+        res = {"status": "failed", "alpha": None, "reason": f"{type(exc).__name__}: {exc}", "engine": "lmgc90"}
+    res.setdefault("time_s", time.perf_counter() - t0)
+    return res
+
+
+STAGES = {"la": (la_options, run_la), "dem": (dem_options, run_dem), "lmgc": (lmgc_options, run_lmgc)}

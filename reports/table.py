@@ -15,6 +15,8 @@ Columns (alpha values dimensionless, times in seconds):
 * ``fric_alpha``: the lowest verified frictional value found (NLP or MILP);
 * errors relative to the reference: ``lp_err``, ``nlp_err``, ``dem_err``, and
   ``dem_vs_la`` (DEM against the frictional limit analysis);
+* ``lmgc_*``: the LMGC90 run (rigid contacts), as ``dem_*``, with ``lmgc_err``,
+  ``lmgc_vs_la`` and ``lmgc_similarity`` (all empty when LMGC90 did not run);
 * ``mech_similarity``: the cosine between the limit-analysis mechanism and the
   DEM motion, compared through the velocities of every block vertex
   (scale-free: 1 = the same motion, 0 = unrelated).
@@ -93,7 +95,7 @@ def dem_model_text(dem: dict) -> str:
     return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."
 
 
-def row(path: Path, la: dict | None, dem: dict | None) -> dict:
+def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None) -> dict:
     from limit.scene import load_scene
 
     data = json.loads(Path(path).read_text())
@@ -140,21 +142,29 @@ def row(path: Path, la: dict | None, dem: dict | None) -> dict:
                                                           in r["pub_kind"] else r["fric_alpha"])
     r["pub_diff"] = _rel(ours, r["pub_alpha"])
     r["within_ref"] = (abs(r["nlp_err"]) <= (r["ref_rtol"] or 0) + 1e-12) if np.isfinite(r["nlp_err"]) else None
+    lm = lmgc or {}
+    r.update(lmgc_status=lm.get("status"), lmgc_alpha=lm.get("alpha"), lmgc_time_s=lm.get("time_s"),
+             lmgc_reason=lm.get("reason", lm.get("note", "")), lmgc_uncertainty=lm.get("alpha_uncertainty"),
+             lmgc_dead=bool(lm.get("dead_load_collapse")))
+    r["lmgc_err"] = _rel(r["lmgc_alpha"], exp.get("alpha"))
+    r["lmgc_vs_la"] = _rel(r["lmgc_alpha"], r["fric_alpha"])
     mech, kind = la_mechanism(la)
     r["mech_kind"] = kind
     try:
         scene = load_scene(data)
         r["mech_similarity"] = similarity(scene, mech, dem.get("displacement"))
+        r["lmgc_similarity"] = similarity(scene, mech, lm.get("displacement"))
     except Exception:  # noqa: BLE001 - a rejected scene has no mechanism to compare
-        r["mech_similarity"] = float("nan")
+        r["mech_similarity"] = r["lmgc_similarity"] = float("nan")
     return r
 
 
-def results_table(files, results: dict, with_dem: bool = True) -> pd.DataFrame:
+def results_table(files, results: dict, with_dem: bool = True, with_lmgc: bool = False) -> pd.DataFrame:
     rows = []
     for path in files:
         name = json.loads(Path(path).read_text()).get("name", Path(path).stem)
-        rows.append(row(Path(path), results.get((name, "la")), results.get((name, "dem")) if with_dem else None))
+        rows.append(row(Path(path), results.get((name, "la")), results.get((name, "dem")) if with_dem else None,
+                        results.get((name, "lmgc")) if with_lmgc else None))
     return pd.DataFrame(rows)
 
 

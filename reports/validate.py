@@ -47,7 +47,7 @@ def plan(files, stages, cache: Cache, fresh: bool):
 
 def _parts(stage: str, res: dict) -> list[dict]:
     """The parts of a stage result that carry a status: the DEM result, or the LP and NLP parts."""
-    return [res] if stage == "dem" else [res.get("lp") or {}, res.get("nlp") or {}]
+    return [res] if stage in ("dem", "lmgc") else [res.get("lp") or {}, res.get("nlp") or {}]
 
 
 def _failed(stage: str, res: dict) -> bool:
@@ -97,8 +97,9 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
         client = Client(cluster)
     try:
         futures = {}
-        # Longest first: DEM stages by their estimated cost, then the limit analyses.
-        order = sorted(todo, key=lambda t: (t[0] != "dem", -dem_cost(t[3]) if t[0] == "dem" else 0.0))
+        # Longest first: YADE stages by their estimated cost, then LMGC90's, then the limit analyses.
+        rank_of = {"dem": 0, "lmgc": 1}
+        order = sorted(todo, key=lambda t: (rank_of.get(t[0], 2), -dem_cost(t[3]) if t[0] in rank_of else 0.0))
         for rank, (stage, name, k, data, opts) in enumerate(order):
             f = client.submit(_run_task, stage, data, opts, key=f"{stage}-{name}-{k}", pure=False,
                               priority=len(order) - rank)
@@ -142,7 +143,9 @@ def main(argv=None) -> int:
     ap.add_argument("--scheduler", default=os.environ.get("DASK_SCHEDULER_ADDRESS"),
                     help="address of an existing Dask scheduler (default: a local cluster)")
     ap.add_argument("--only", nargs="*", help="run only these scene names")
-    ap.add_argument("--no-dem", action="store_true", help="skip the DEM stage")
+    ap.add_argument("--no-dem", action="store_true", help="skip the DEM stages (YADE and LMGC90)")
+    ap.add_argument("--lmgc", action="store_true",
+                    help="also run LMGC90 (rigid contacts) on every scene (not yet part of the default run)")
     ap.add_argument("--fresh", action="store_true", help="ignore cached results")
     ap.add_argument("--no-progress", action="store_true")
     args = ap.parse_args(argv)
@@ -154,7 +157,7 @@ def main(argv=None) -> int:
         if missing:
             print(f"error: unknown scene(s): {', '.join(sorted(missing))}", file=sys.stderr)
             return 2
-    stages = ["la"] + ([] if args.no_dem else ["dem"])
+    stages = ["la"] + ([] if args.no_dem else ["dem"] + (["lmgc"] if args.lmgc else []))
     cache = Cache(args.cache)
     t0 = time.perf_counter()
     done, todo = plan(files, stages, cache, args.fresh)
@@ -166,14 +169,16 @@ def main(argv=None) -> int:
         return 130
     from . import render, table
 
-    df = table.results_table(files, done, with_dem=not args.no_dem)
+    df = table.results_table(files, done, with_dem=not args.no_dem, with_lmgc=args.lmgc and not args.no_dem)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     table.write(df, out)
     render.report(df, files, done, out, wall_time=time.perf_counter() - t0)
     failed = df[(df.lp_status == "failed") | (df.nlp_status == "failed") | (df.dem_status == "failed")]
-    print(f"validate: report {out / 'index.html'} ({len(df)} scenes, {len(failed)} with a failed stage, "
-          f"{time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    lmgc_failed = int((df.lmgc_status == "failed").sum()) if args.lmgc else 0
+    print(f"validate: report {out / 'index.html'} ({len(df)} scenes, {len(failed)} with a failed stage"
+          + (f", {lmgc_failed} LMGC90 runs failed" if args.lmgc else "") + f", {time.perf_counter() - t0:.0f} s)",
+          file=sys.stderr)
     return 0
 
 

@@ -44,6 +44,7 @@ def test_squat_block_slides_at_mu(dim):
     dem = _alpha(B.single_block(dim, 1.0, 0.5, mu=0.4))
     assert dem["alpha"] == pytest.approx(0.4, rel=RTOL)
     (u,) = dem["displacement"].values()
+    assert len(u) == (3 if dim == 2 else 6)  # laid out like the LP mechanism
     assert u[0] > 0 and abs(u[-1]) * 0.5 < 0.1 * u[0]  # a slide in +x, next to no turn
 
 
@@ -143,3 +144,27 @@ def test_search_reports_a_dead_load_collapse_and_a_stable_scene():
     assert run["dead_load_collapse"] and run["alpha"] is None and len(run["history"]) == 1
     run = search(_fake(math.inf)[0], p)
     assert run["status"] == "stable" and run["alpha"] is None and run["alpha_lo"] == 2.0
+
+
+def test_validate_stage_table_and_report(tmp_path):
+    """The validation run's LMGC90 stage on the rocking block (b/h = 0.3): it starts from
+    the LP's alpha (first load trial at 0.98 x 0.3), and the report line gives the value,
+    its distance from the limit analysis and a mechanism similarity near 1 (both turn
+    about the toe)."""
+    import json
+
+    from reports.render import lmgc_lines
+    from reports.stages import la_options, lmgc_options, run_la, run_lmgc
+    from reports.table import row
+
+    data = B.single_block(2, 0.3, 1.0, mu=0.8)
+    path = tmp_path / "block.json"
+    path.write_text(json.dumps(data))
+    res = run_lmgc(str(path), lmgc_options(data))
+    assert res["status"] == "collapsed" and res["alpha"] == pytest.approx(0.3, rel=RTOL)
+    assert res["history"][1]["alpha"] == pytest.approx(0.98 * 0.3)
+    r = row(path, run_la(str(path), la_options(data)), None, res)
+    assert r["lmgc_alpha"] == res["alpha"] and abs(r["lmgc_vs_la"]) < RTOL
+    assert r["lmgc_similarity"] > 0.95
+    lines = lmgc_lines(r)
+    assert "LMGC90" in lines[0] and f"{res['alpha']:.4g}" in lines[0] and "similarity" in lines[1]
