@@ -86,7 +86,7 @@ class RigidScene:
         self.fL = {i: self._turn(f) for i, f in zip(self.free, fL)}
         for i in self.free:  # the weight is LMGC90's gravity: keep the rest of the dead load
             self.f0[i][2] += self.blocks[i]["mass"] * g
-        self.blocked = {i: self._blocked_dofs(self.blocks[i].get("blocked", "")) for i in self.free}
+        self.blocked = {i: self._blocked_dofs(i) for i in self.free}
         pairs = job.get("friction_pairs") or []
         mus = {float(job["friction"])} | {float(mu) for _, _, mu in pairs}
         if len(mus) > 1:
@@ -97,17 +97,34 @@ class RigidScene:
     def _turn(self, f) -> np.ndarray:
         return np.concatenate([self.Q @ f[:3], self.Q @ f[3:]])
 
-    def _blocked_dofs(self, letters: str) -> list[int]:
-        """LMGC90 dof numbers (1..6: Vx Vy Vz Rx Ry Rz) of the scene dofs named by ``letters``;
-        raises ValueError when a blocked scene axis is not along a turned axis."""
+    def _blocked_dofs(self, i: int) -> list[int]:
+        """LMGC90 dof numbers (1..6: Vx Vy Vz Rx Ry Rz) of block i's blocked scene dofs.
+
+        LMGC90 drives translations in global axes but rotations in the body's inertia
+        axes. A 2D scene's prisms get their out-of-plane translation blocked only: their
+        loads and contacts are symmetric about the mid-plane, so they stay in it (blocking
+        'rotations about x and y' in the body frame of a voussoir, whose inertia axes are
+        turned, locked its in-plane rotation: the 9-voussoir arch held to 0.39 for 0.147).
+        A 3D block with blocked rotations must have its inertia axes along the scene's
+        (checked); ValueError names the block otherwise, and for a blocked axis that is not
+        along a turned axis."""
+        letters = self.blocks[i].get("blocked", "")
+        if self.job.get("dim") == 2:
+            letters = "".join(ch for ch in letters if ch.islower())
+        elif any(ch.isupper() for ch in letters):
+            S = _second_moment(self.verts[i], outward_triangles(self.verts[i]), self.centroid[i])
+            off = np.abs(S - np.diag(np.diag(S))).max()
+            if off > 1e-9 * np.abs(np.diag(S)).max():
+                raise ValueError(f"block {self.blocks[i]['id']}: blocked rotations, but its inertia axes are not "
+                                 "the scene's (LMGC90 drives rotations in the body's inertia axes)")
         out = []
         for ch in letters:
             k = LETTERS.index(ch)
             axis = self.Q[:, k % 3]
             j = int(np.argmax(np.abs(axis)))
             if abs(abs(axis[j]) - 1.0) > 1e-9:
-                raise ValueError(f"blocked dof {ch!r} is not along an axis once the scene is turned to LMGC90's "
-                                 "vertical gravity")
+                raise ValueError(f"block {self.blocks[i]['id']}: blocked dof {ch!r} is not along an axis once the "
+                                 "scene is turned to LMGC90's vertical gravity")
             out.append(j + 1 + 3 * (k // 3))
         return sorted(set(out))
 
@@ -197,6 +214,18 @@ class RigidScene:
             m = (self.Q.T @ u).tolist() + (self.Q.T @ r).tolist()
             out[str(self.blocks[i]["id"])] = [m[0], m[1], m[5]] if self.job.get("dim") == 2 else m
         return out
+
+
+def _second_moment(v: np.ndarray, tris: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """(3, 3) integral of (x - c)(x - c)^T over the convex polyhedron (m^5): a sum over the
+    tetrahedra (c, a, b, d) of det/120 (a a^T + b b^T + d d^T + s s^T), s = a + b + d,
+    with a, b, d relative to c."""
+    S = np.zeros((3, 3))
+    for a, b, d in v[tris] - c:
+        det = np.dot(a, np.cross(b, d))
+        s = a + b + d
+        S += det / 120.0 * (np.outer(a, a) + np.outer(b, b) + np.outer(d, d) + np.outer(s, s))
+    return S
 
 
 def _volume_centroid(v: np.ndarray, tris: np.ndarray) -> np.ndarray:

@@ -60,6 +60,19 @@ def test_portal_sways_at_b_over_h(dim):
     assert dem["alpha"] == pytest.approx(0.2, rel=RTOL)
 
 
+def test_semicircular_arch_of_9_voussoirs():
+    """The catalog's 9-voussoir arch (its alpha checked by an independent four-hinge
+    mechanism search, scenes/catalog.py). Its voussoirs' inertia axes are turned: a 2D
+    scene must not block 'out-of-plane rotations' in LMGC90's body frame (that locked the
+    in-plane rotation and held the arch to 0.39)."""
+    from limit.scene import load_scene
+    from tests.conftest import ROOT
+
+    scene = load_scene(ROOT / "scenes" / "catalog" / "arch-semicircular-9-2d.json")
+    dem = _alpha(scene)
+    assert dem["alpha"] == pytest.approx(scene.expected["alpha"], rel=RTOL)
+
+
 def test_block_under_its_weight_alone_is_a_dead_load_collapse():
     """A block standing on a 45-degree slope with mu = 0.5 < tan 45: it slides under its
     weight. Built as a 3D block whose base is fixed and tilted by turning gravity."""
