@@ -69,16 +69,19 @@ class RigidScene:
         g = float(job["gravity_norm"])
         self.blocks = job["blocks"]
         self.free = [i for i, b in enumerate(self.blocks) if not b["fixed"]]
-        self.verts, self.volume, self.centroid = [], [], []
-        for b in self.blocks:
+        self.verts, self.tris, self.volume, self.centroid = [], [], [], []
+        for b in self.blocks:  # hulls once: every trial builds its simulation from these
             v = np.asarray(b["vertices"], dtype=float) @ self.Q.T
-            hull = ConvexHull(v)
+            tris = outward_triangles(v)
             self.verts.append(v)
-            self.volume.append(float(hull.volume))
-            self.centroid.append(_volume_centroid(v, outward_triangles(v)))
+            self.tris.append(tris)
+            self.volume.append(float(ConvexHull(v).volume))
+            self.centroid.append(_volume_centroid(v, tris))
         self.density = [round(b["mass"] * g / (G_LMGC * vol), 9) for b, vol in zip(self.blocks, self.volume)]
         self.radius = [float(np.max(np.linalg.norm(v - c, axis=1))) for v, c in zip(self.verts, self.centroid)]
         lmin = min(float(np.ptp(v, axis=0).max()) for v in self.verts)
+        free_v = np.vstack([self.verts[i] for i in self.free] or self.verts)
+        self._size = float(np.linalg.norm(np.ptp(free_v, axis=0)))
         self.alert = alert_rel * lmin
         f0 = np.asarray(job["f0"], dtype=float).reshape(-1, 6)
         fL = np.asarray(job["fL"], dtype=float).reshape(-1, 6)
@@ -112,7 +115,7 @@ class RigidScene:
         if self.job.get("dim") == 2:
             letters = "".join(ch for ch in letters if ch.islower())
         elif any(ch.isupper() for ch in letters):
-            S = _second_moment(self.verts[i], outward_triangles(self.verts[i]), self.centroid[i])
+            S = _second_moment(self.verts[i], self.tris[i], self.centroid[i])
             off = np.abs(S - np.diag(np.diag(S))).max()
             if off > 1e-9 * np.abs(np.diag(S)).max():
                 raise ValueError(f"block {self.blocks[i]['id']}: blocked rotations, but its inertia axes are not "
@@ -130,8 +133,7 @@ class RigidScene:
 
     def size(self) -> float:
         """Diagonal of the free blocks' bounding box (m)."""
-        v = np.vstack([self.verts[i] for i in self.free] or self.verts)
-        return float(np.linalg.norm(np.ptp(v, axis=0)))
+        return self._size
 
     def build(self, alpha: float, t_load: float, t_ramp: float):
         """A fresh LMGC90 simulation (the previous one is superseded): the live load rises
@@ -149,7 +151,7 @@ class RigidScene:
         t_end = 1e9
         for i, b in enumerate(self.blocks):
             v = self.verts[i] - self.centroid[i]
-            tris = outward_triangles(self.verts[i])
+            tris = self.tris[i]
             vdrv, fdrv = {}, {}
             if b["fixed"]:
                 vdrv = {k: np.array([0.0, 0, 0, 0, 1, 0]) for k in range(1, 7)}
