@@ -41,7 +41,10 @@ def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep
 
 
 def assemble_rigid(raw: dict) -> dict:
-    """The ``dem`` dict from the LMGC90 side's result."""
+    """The ``dem`` dict from the LMGC90 side's result ("skipped" with the reason when the
+    scene needs what the wheel cannot model)."""
+    if raw.get("status") == "skipped":
+        return {"status": "skipped", "alpha": None, "reason": raw.get("reason", "")}
     if raw.get("status") != "done":
         return failed(raw.get("reason", "LMGC90 run failed"), **{k: raw[k] for k in ("cpu_s",) if k in raw})
     runs = raw.get("runs") or []

@@ -58,6 +58,10 @@ def outward_triangles(v: np.ndarray) -> np.ndarray:
     return tris
 
 
+class Unsupported(ValueError):
+    """The scene needs what the LMGC90 wheel cannot model (the run is skipped with this reason)."""
+
+
 class RigidScene:
     """The job's geometry and loads in LMGC90's frame; :meth:`trial` runs one load case."""
 
@@ -93,7 +97,7 @@ class RigidScene:
         pairs = job.get("friction_pairs") or []
         mus = {float(job["friction"])} | {float(mu) for _, _, mu in pairs}
         if len(mus) > 1:
-            raise ValueError(f"LMGC90 (compas_lmgc90 0.1.11) takes one friction per model; this scene has "
+            raise Unsupported(f"LMGC90 (compas_lmgc90 0.1.11) takes one friction per model; this scene has "
                              f"{len(mus)}: {', '.join(f'{m:g}' for m in sorted(mus))}")
         self.mu = mus.pop()
 
@@ -109,7 +113,7 @@ class RigidScene:
         'rotations about x and y' in the body frame of a voussoir, whose inertia axes are
         turned, locked its in-plane rotation: the 9-voussoir arch held to 0.39 for 0.147).
         A 3D block with blocked rotations must have its inertia axes along the scene's
-        (checked); ValueError names the block otherwise, and for a blocked axis that is not
+        (checked); :class:`Unsupported` names the block otherwise, and for a blocked axis that is not
         along a turned axis."""
         letters = self.blocks[i].get("blocked", "")
         if self.job.get("dim") == 2:
@@ -118,7 +122,7 @@ class RigidScene:
             S = _second_moment(self.verts[i], self.tris[i], self.centroid[i])
             off = np.abs(S - np.diag(np.diag(S))).max()
             if off > 1e-9 * np.abs(np.diag(S)).max():
-                raise ValueError(f"block {self.blocks[i]['id']}: blocked rotations, but its inertia axes are not "
+                raise Unsupported(f"block {self.blocks[i]['id']}: blocked rotations, but its inertia axes are not "
                                  "the scene's (LMGC90 drives rotations in the body's inertia axes)")
         out = []
         for ch in letters:
@@ -126,7 +130,7 @@ class RigidScene:
             axis = self.Q[:, k % 3]
             j = int(np.argmax(np.abs(axis)))
             if abs(abs(axis[j]) - 1.0) > 1e-9:
-                raise ValueError(f"block {self.blocks[i]['id']}: blocked dof {ch!r} is not along an axis once the "
+                raise Unsupported(f"block {self.blocks[i]['id']}: blocked dof {ch!r} is not along an axis once the "
                                  "scene is turned to LMGC90's vertical gravity")
             out.append(j + 1 + 3 * (k // 3))
         return sorted(set(out))
@@ -177,8 +181,11 @@ class RigidScene:
         """One load case from rest: gravity alone for ``t_load`` s, the live load ramped to
         alpha over ``t_ramp`` s, held for ``t_hold`` s. Collapse when a free block moved
         more than ``collapse_rel`` x the scene size (translation plus rotation x its radius)
-        from its start. Returns outcome (stable|collapse), motion (m), steps, time (s) and
-        the free blocks' (u, rotation vector) in scene axes at the end."""
+        from its start. Stable at the end of the hold, or earlier once the load has been
+        held ``t_rest`` s and no block moved faster than ``v_rest`` over the last
+        ``t_rest / 2`` s. Returns outcome (stable|collapse), motion (m), steps, time (s),
+        rest (True when it ended at rest) and the free blocks' (u, rotation vector) in
+        scene axes at the end."""
         t_load, t_ramp, t_hold = p["t_load"], p["t_ramp"], p["t_hold"]
         sim = self.build(alpha, t_load, t_ramp)
         init = sim.get_initial_state()
@@ -186,27 +193,39 @@ class RigidScene:
         F0 = [np.asarray(f, dtype=float).reshape(3, 3) for f in init.init_body_frames]
         limit = p["collapse_rel"] * self.size()
         n_steps = int(math.ceil((t_load + t_ramp + t_hold) / self.dt))
-        motion, steps, state = 0.0, 0, None
+        rest_from = int(math.ceil((t_load + t_ramp + p["t_rest"]) / self.dt))
+        window = max(1, int(round(0.5 * p["t_rest"] / self.dt)))
+        motion, steps, state, rest, marks = 0.0, 0, None, False, {}
         for steps in range(1, n_steps + 1):
             state = sim.compute_one_step()
-            motion = self._motion(state, x0, F0)
+            moves = self._move_vectors(state, x0, F0)
+            motion = max((float(np.linalg.norm(m[:3]) + np.linalg.norm(m[3:])) for m in moves), default=0.0)
             if not math.isfinite(motion):
                 raise FloatingPointError(f"non-finite block position at t = {steps * self.dt:.3g} s")
             if motion > limit:
                 break
+            if steps % window == 0:
+                marks[steps] = moves
+                before = marks.pop(steps - window, None)
+                if steps >= rest_from and before is not None:
+                    speed = max((float(np.linalg.norm(a[:3] - b[:3]) + np.linalg.norm(a[3:] - b[3:]))
+                                 for a, b in zip(moves, before)), default=0.0) / (window * self.dt)
+                    if speed < p["v_rest"]:
+                        rest = True
+                        break
         disp = self._displacements(state, x0, F0) if state is not None else {}
         return {"alpha": alpha, "outcome": "collapse" if motion > limit else "stable", "motion": motion,
-                "steps": steps, "time": steps * self.dt, "displacement": disp}
+                "steps": steps, "time": steps * self.dt, "rest": rest, "displacement": disp}
+
+    def _move_vectors(self, state, x0, F0) -> list:
+        """Per free block [u (3), rotation vector x its radius (3)] (m) from the start."""
+        return [np.concatenate([u, r * self.radius[i]]) for i, u, r in self._moves(state, x0, F0)]
 
     def _moves(self, state, x0, F0):
         x = np.asarray(state.bodies, dtype=float)
         for i in self.free:
             F = np.asarray(state.body_frames[i], dtype=float).reshape(3, 3)
             yield i, x[i] - x0[i], Rotation.from_matrix(F.T @ F0[i]).as_rotvec()
-
-    def _motion(self, state, x0, F0) -> float:
-        return max((float(np.linalg.norm(u) + np.linalg.norm(r) * self.radius[i])
-                    for i, u, r in self._moves(state, x0, F0)), default=0.0)
 
     def _displacements(self, state, x0, F0) -> dict:
         """{block id: motion} in scene axes (m, rad), laid out like the LP mechanism:

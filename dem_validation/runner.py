@@ -186,7 +186,7 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             res = json.loads(result_path.read_text())
         except (OSError, ValueError) as exc:
             return failed(f"unreadable DEM result file: {exc}", time_s=elapsed)
-        if not isinstance(res, dict) or res.get("status") not in ("done", "failed"):
+        if not isinstance(res, dict) or res.get("status") not in ("done", "failed", "skipped"):
             return failed("DEM result file without a valid status", time_s=elapsed)
         if not _finite(res):
             return failed("non-finite number in the DEM result", time_s=elapsed)

@@ -144,8 +144,7 @@ def main(argv=None) -> int:
                     help="address of an existing Dask scheduler (default: a local cluster)")
     ap.add_argument("--only", nargs="*", help="run only these scene names")
     ap.add_argument("--no-dem", action="store_true", help="skip the DEM stages (YADE and LMGC90)")
-    ap.add_argument("--lmgc", action="store_true",
-                    help="also run LMGC90 (rigid contacts) on every scene (not yet part of the default run)")
+    ap.add_argument("--no-lmgc", action="store_true", help="skip the LMGC90 stage (rigid contacts)")
     ap.add_argument("--fresh", action="store_true", help="ignore cached results")
     ap.add_argument("--no-progress", action="store_true")
     args = ap.parse_args(argv)
@@ -157,7 +156,7 @@ def main(argv=None) -> int:
         if missing:
             print(f"error: unknown scene(s): {', '.join(sorted(missing))}", file=sys.stderr)
             return 2
-    stages = ["la"] + ([] if args.no_dem else ["dem"] + (["lmgc"] if args.lmgc else []))
+    stages = ["la"] + ([] if args.no_dem else ["dem"] + ([] if args.no_lmgc else ["lmgc"]))
     cache = Cache(args.cache)
     t0 = time.perf_counter()
     done, todo = plan(files, stages, cache, args.fresh)
@@ -169,15 +168,16 @@ def main(argv=None) -> int:
         return 130
     from . import render, table
 
-    df = table.results_table(files, done, with_dem=not args.no_dem, with_lmgc=args.lmgc and not args.no_dem)
+    df = table.results_table(files, done, with_dem=not args.no_dem, with_lmgc=not (args.no_lmgc or args.no_dem))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     table.write(df, out)
     render.report(df, files, done, out, wall_time=time.perf_counter() - t0)
     failed = df[(df.lp_status == "failed") | (df.nlp_status == "failed") | (df.dem_status == "failed")]
-    lmgc_failed = int((df.lmgc_status == "failed").sum()) if args.lmgc else 0
+    with_lmgc = not (args.no_lmgc or args.no_dem)
+    lmgc_failed = int((df.lmgc_status == "failed").sum()) if with_lmgc else 0
     print(f"validate: report {out / 'index.html'} ({len(df)} scenes, {len(failed)} with a failed stage"
-          + (f", {lmgc_failed} LMGC90 runs failed" if args.lmgc else "") + f", {time.perf_counter() - t0:.0f} s)",
+          + (f", {lmgc_failed} LMGC90 runs failed" if with_lmgc else "") + f", {time.perf_counter() - t0:.0f} s)",
           file=sys.stderr)
     return 0
 

@@ -19,7 +19,7 @@ def run(tmp_path_factory, monkeypatch_module):
     tmp = tmp_path_factory.mktemp("validate")
     monkeypatch_module.setenv("DEM_YADE", str(tmp / "no-such-yade"))  # every DEM run fails: YADE missing
     args = ["--only", *SCENES, "--cache", str(tmp / "cache"), "--out", str(tmp / "out"), "--jobs", "2",
-            "--no-progress"]
+            "--no-progress", "--no-lmgc"]
     err = io.StringIO()
     with contextlib.redirect_stderr(err):
         code = validate_main(args)
@@ -167,6 +167,8 @@ def test_failure_copy_that_cannot_be_written_does_not_stop_the_run(tmp_path, mon
     assert "full result not kept: No space left on device" in capsys.readouterr().err
     df = pd.read_csv(tmp_path / "out" / "results.csv")
     assert list(df.dem_status) == ["failed"] and list(df.lp_status) == ["optimal"]
+    # LMGC90 is part of the default run (b/h = 0.3: the block rocks at 0.3)
+    assert list(df.lmgc_status) == ["collapsed"] and abs(df.lmgc_alpha[0] / 0.3 - 1) < 2e-3
 
 
 def test_dem_opt_out_is_reported_as_skipped_with_its_reason():
