@@ -239,10 +239,12 @@ def capacity_points(dem: dict) -> dict:
     return {"curves": out, "collapse": collapse}
 
 
-def capacity_figure(dem: dict | None, la_alpha, path, title="") -> bool:
+def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc_alpha=None) -> bool:
     """alpha against the control displacement (mm) of every DEM run; a dashed line at the
-    limit analysis's alpha (frictional where it ran) and one at the DEM's extrapolated alpha.
-    False (no figure) when the DEM has no equilibrium to draw."""
+    limit analysis's alpha (frictional where it ran), one at the DEM's extrapolated alpha
+    and one at LMGC90's (rigid blocks: its trials start from rest and hold or collapse, so
+    it has a collapse load but no curve). False (no figure) when the DEM has no
+    equilibrium to draw."""
     pts = capacity_points(dem or {})
     if not pts["curves"]:
         return False
@@ -256,9 +258,11 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="") -> bool:
         ax.axhline(la_alpha, color=COLORS["nlp"], ls="--", lw=1.2, label=f"limit analysis {la_alpha:.4g}")
     if dem.get("alpha") is not None:
         ax.axhline(dem["alpha"], color=COLORS["dem"], ls=":", lw=1.2, label=f"DEM, rigid contacts {dem['alpha']:.4g}")
+    if lmgc_alpha is not None and np.isfinite(lmgc_alpha):
+        ax.axhline(lmgc_alpha, color="0.35", ls="-.", lw=1.2, label=f"LMGC90, rigid blocks {lmgc_alpha:.4g}")
     ax.set_xlabel("control displacement (mm): live-load work / |live load|")
     ax.set_ylabel("load factor alpha")
-    ax.set_title(("DEM pushover curve" + (f": {title}" if title else "")) + " (x: first collapse)", fontsize=9)
+    ax.set_title(("YADE pushover curve" + (f": {title}" if title else "")) + " (x: first collapse)", fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, loc="lower right")
     fig.tight_layout()

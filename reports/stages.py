@@ -2,8 +2,11 @@
 
 ``la``: the limit analysis (LP, then the NLP where the scene needs it, with the
 global MILP and the iterative LP as independent checks on small scenes);
-``dem``: the YADE pushover; ``lmgc``: the LMGC90 pushover (rigid contacts,
-:mod:`dem_validation.lmgc`). A stage never raises: any fault comes back as a
+``cone``: the same limit analysis of a 3D scene with a near-circular friction cone
+(:data:`CONE_FACES` inscribed sliding faces, within 1 - cos(pi/24) = 0.86 % inside
+the cone that both dynamic engines use) beside the paper's 4 circumscribed faces
+(up to 41 % outside it in a diagonal direction); ``dem``: the YADE pushover;
+``lmgc``: the LMGC90 pushover (rigid contacts, :mod:`dem_validation.lmgc`). A stage never raises: any fault comes back as a
 result with ``status`` "failed" and its reason, so the run goes on.
 
 A scene steers its DEM stage through ``meta.dem``: ``{"run": false, "reason":
@@ -23,6 +26,8 @@ ITERATIVE_MAX_FREE = 80
 GLOBAL_TIME_LIMIT = 60.0
 DEM_TIMEOUT = 900.0
 LMGC_TIMEOUT = 900.0
+#: sliding faces of the near-circular friction model of the ``cone`` stage (inscribed)
+CONE_FACES = 24
 
 
 def la_options(scene_data: dict) -> dict:
@@ -42,9 +47,25 @@ def lmgc_options(scene_data: dict) -> dict:
             "timeout_s": spec.get("timeout_s", LMGC_TIMEOUT)}
 
 
+def cone_options(scene_data: dict) -> dict:
+    return {**la_options(scene_data), "n_slide": CONE_FACES, "slide_fit": "inscribed",
+            "run": scene_data.get("dim") == 3, "global_max_free": 0}
+
+
+def run_cone(path: str, options: dict) -> dict:
+    """The limit analysis with the near-circular friction model (3D scenes; a 2D
+    interface's two sliding faces are exact, so a 2D scene is skipped)."""
+    if not options["run"]:
+        return {"lp": {"status": "skipped", "alpha": None, "reason": "2D: the two sliding faces are exact"},
+                "stage_time_s": 0.0}
+    return run_la(path, options)
+
+
 def run_la(path: str, options: dict) -> dict:
-    """Limit analysis of the scene file at ``path``: the result file's content (CONTRACT section 3)."""
+    """Limit analysis of the scene file at ``path``: the result file's content (CONTRACT
+    section 3); ``options`` may set the friction model (``n_slide``, ``slide_fit``)."""
     from limit.analysis import analyse, public
+    from limit.assemble import Options
     from limit.errors import SceneError
     from limit.scene import load_scene
 
@@ -55,7 +76,8 @@ def run_la(path: str, options: dict) -> dict:
         nlp_opts = {"global_check": n_free <= options["global_max_free"],
                     "iterative": n_free <= options["iterative_max_free"],
                     "global_time_limit": options["global_time_limit"], "arbitrary": n_free <= options["global_max_free"]}
-        res = public(analyse(scene, method=options["method"], nlp_options=nlp_opts))
+        model = Options(n_slide=options.get("n_slide", 4), slide_fit=options.get("slide_fit", "auto"))
+        res = public(analyse(scene, method=options["method"], options=model, nlp_options=nlp_opts))
     except SceneError as exc:
         res = {"lp": {"status": "failed", "alpha": None, "reason": f"rejected scene: {exc}"}}
     except Exception as exc:  # noqa: BLE001 - reported, never raised
@@ -106,4 +128,4 @@ def run_lmgc(path: str, options: dict) -> dict:
     return res
 
 
-STAGES = {"la": (la_options, run_la), "dem": (dem_options, run_dem), "lmgc": (lmgc_options, run_lmgc)}
+STAGES = {"la": (la_options, run_la), "cone": (cone_options, run_cone), "dem": (dem_options, run_dem), "lmgc": (lmgc_options, run_lmgc)}

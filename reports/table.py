@@ -17,6 +17,10 @@ Columns (alpha values dimensionless, times in seconds):
   ``dem_vs_la`` (DEM against the frictional limit analysis);
 * ``lmgc_*``: the LMGC90 run (rigid contacts), as ``dem_*``, with ``lmgc_err``,
   ``lmgc_vs_la`` and ``lmgc_similarity`` (all empty when LMGC90 did not run);
+* ``cone_*``: the limit analysis of a 3D scene with 24 inscribed sliding faces (a
+  near-circular friction cone, as in both dynamic engines): ``cone_status``,
+  ``cone_lp_alpha``, ``cone_alpha`` (frictional, NLP), ``cone_time_s``, and
+  ``dem_vs_cone``, ``lmgc_vs_cone``; empty in 2D, where two faces are exact;
 * ``mech_similarity``: the cosine between the limit-analysis mechanism and the
   DEM motion, compared through the velocities of every block vertex
   (scale-free: 1 = the same motion, 0 = unrelated).
@@ -95,7 +99,7 @@ def dem_model_text(dem: dict) -> str:
     return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."
 
 
-def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None) -> dict:
+def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None, cone: dict | None = None) -> dict:
     from limit.scene import load_scene
 
     data = json.loads(Path(path).read_text())
@@ -148,6 +152,12 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None)
              lmgc_dead=bool(lm.get("dead_load_collapse")))
     r["lmgc_err"] = _rel(r["lmgc_alpha"], exp.get("alpha"))
     r["lmgc_vs_la"] = _rel(r["lmgc_alpha"], r["fric_alpha"])
+    cl, cn = (cone or {}).get("lp") or {}, (cone or {}).get("nlp") or {}
+    r.update(cone_status=cn.get("status") or cl.get("status"), cone_lp_alpha=cl.get("alpha"),
+             cone_alpha=cn.get("alpha") if cn.get("status") in ("optimal", "skipped") else None,
+             cone_time_s=(cone or {}).get("stage_time_s"))
+    r["dem_vs_cone"] = _rel(r["dem_alpha"], r["cone_alpha"])
+    r["lmgc_vs_cone"] = _rel(r["lmgc_alpha"], r["cone_alpha"])
     mech, kind = la_mechanism(la)
     r["mech_kind"] = kind
     try:
@@ -164,7 +174,7 @@ def results_table(files, results: dict, with_dem: bool = True, with_lmgc: bool =
     for path in files:
         name = json.loads(Path(path).read_text()).get("name", Path(path).stem)
         rows.append(row(Path(path), results.get((name, "la")), results.get((name, "dem")) if with_dem else None,
-                        results.get((name, "lmgc")) if with_lmgc else None))
+                        results.get((name, "lmgc")) if with_lmgc else None, results.get((name, "cone"))))
     return pd.DataFrame(rows)
 
 

@@ -47,7 +47,7 @@ def plan(files, stages, cache: Cache, fresh: bool):
 
 def _parts(stage: str, res: dict) -> list[dict]:
     """The parts of a stage result that carry a status: the DEM result, or the LP and NLP parts."""
-    return [res] if stage in ("dem", "lmgc") else [res.get("lp") or {}, res.get("nlp") or {}]
+    return [res] if stage in ("dem", "lmgc") else [res.get("lp") or {}, res.get("nlp") or {}]  # la, cone
 
 
 def _failed(stage: str, res: dict) -> bool:
@@ -111,7 +111,7 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
                 res = f.result()
             except Exception as exc:  # a worker lost: recorded as a failure, the run goes on
                 res = {"status": "failed", "alpha": None, "reason": f"worker error: {type(exc).__name__}: {exc}"}
-                if stage == "la":
+                if stage in ("la", "cone"):
                     res = {"lp": res}
             if not _failed(stage, res):  # failures are not cached: the next run tries them again
                 cache.put(stage, name, k, res)
@@ -156,7 +156,7 @@ def main(argv=None) -> int:
         if missing:
             print(f"error: unknown scene(s): {', '.join(sorted(missing))}", file=sys.stderr)
             return 2
-    stages = ["la"] + ([] if args.no_dem else ["dem"] + ([] if args.no_lmgc else ["lmgc"]))
+    stages = ["la", "cone"] + ([] if args.no_dem else ["dem"] + ([] if args.no_lmgc else ["lmgc"]))
     cache = Cache(args.cache)
     t0 = time.perf_counter()
     done, todo = plan(files, stages, cache, args.fresh)

@@ -226,3 +226,38 @@ def test_dem_model_text_says_how_the_rounding_was_treated():
     assert "corrected for the rounding" not in plain and "taken as it is" in plain and "Not extrapolated" in plain
     fitted = dem_model_text({"runs": runs, "extrapolation": {"method": "richardson"}})
     assert "corrected for the rounding" in fitted and "taken as it is" not in fitted
+
+
+@pytest.mark.parametrize("deg", [0.0, 45.0])
+def test_friction_model_stage_beside_the_papers(tmp_path, deg):
+    """A squat 1 x 1 x 0.5 block (mu = 0.4) slides under a horizontal load at ``deg`` to x.
+    Coulomb's circular cone gives alpha = mu in every direction. The paper's 4 faces
+    |V.e_x| <= mu N, |V.e_y| <= mu N give mu / max(|cos|, |sin|): 0.4 along x, 0.4 sqrt 2
+    at 45 deg (41 % too strong). 24 inscribed faces d_j.V <= cos(pi/24) mu N, d_j at
+    multiples of 15 deg, give mu cos(pi/24) along any d_j (both 0 and 45 deg are)."""
+    import math
+
+    from reports.render import cone_lines
+    from reports.stages import cone_options, la_options, run_cone, run_la
+    from reports.table import row
+    from scenes import builders as B
+
+    data = B.single_block(dim=3, b=1.0, h=0.5, t=1.0, mu=0.4, name="squat")
+    th = math.radians(deg)
+    data["loads"]["live"] = [{"type": "body_force", "direction": [math.cos(th), math.sin(th), 0.0]}]
+    path = tmp_path / "squat.json"
+    path.write_text(json.dumps(data))
+    la, cone = run_la(str(path), la_options(data)), run_cone(str(path), cone_options(data))
+    paper = 0.4 / max(abs(math.cos(th)), abs(math.sin(th)))
+    assert la["lp"]["alpha"] == pytest.approx(paper, rel=1e-6)
+    assert cone["lp"]["alpha"] == pytest.approx(0.4 * math.cos(math.pi / 24), rel=1e-6)
+    r = row(path, la, None, None, cone)
+    assert r["cone_alpha"] == pytest.approx(0.4 * math.cos(math.pi / 24), rel=1e-6)
+    assert "24 inscribed faces" in cone_lines(r)[0] and f"{r['cone_alpha']:.4g}" in cone_lines(r)[0]
+
+
+def test_friction_model_stage_skips_2d_scenes():
+    from reports.stages import cone_options, run_cone
+
+    res = run_cone("unused.json", cone_options({"dim": 2}))
+    assert res["lp"]["status"] == "skipped" and "2D" in res["lp"]["reason"]
