@@ -188,3 +188,35 @@ def write(df: pd.DataFrame, out: Path) -> None:
         os.close(fd)
         fn(tmp)
         os.replace(tmp, out / f"results{suffix}")
+
+
+#: (column, heading, format) of the engines table: LA against YADE against LMGC90
+ENGINE_COLUMNS = [
+    ("name", "scene", "{}"), ("dim", "dim", "{}"), ("n_free", "free blocks", "{:.0f}"),
+    ("lp_alpha", "LA: LP", "{:.5g}"), ("fric_alpha", "LA: frictional", "{:.5g}"),
+    ("cone_alpha", "LA, 24-face cone: frictional", "{:.5g}"),
+    ("dem_alpha", "YADE", "{:.5g}"), ("dem_vs_la", "YADE vs LA", "{:+.2%}"), ("dem_time_s", "YADE s", "{:.0f}"),
+    ("lmgc_alpha", "LMGC90", "{:.5g}"), ("lmgc_vs_la", "LMGC90 vs LA", "{:+.2%}"),
+    ("lmgc_time_s", "LMGC90 s", "{:.0f}"),
+]
+
+
+def engines_markdown(df: pd.DataFrame) -> str:
+    """The catalog as one markdown table: the limit analysis (the paper's friction model,
+    and the near-circular cone in 3D) against YADE and LMGC90, with their wall times (s).
+    A stage without a number shows its status (dead-load collapse, skipped, failed)."""
+    def cell(r, col, fmt):
+        v = r.get(col)
+        if v is None or (isinstance(v, float) and not np.isfinite(v)):
+            st = {"lp_alpha": "lp", "fric_alpha": "nlp", "cone_alpha": "cone", "dem_alpha": "dem",
+                  "lmgc_alpha": "lmgc"}.get(col)
+            if st and r.get(f"{st}_dead"):
+                return "dead-load collapse"
+            return str(r.get(f"{st}_status") or "-") if st else "-"
+        return fmt.format(v)
+
+    head = "| " + " | ".join(h for _, h, _ in ENGINE_COLUMNS) + " |"
+    lines = [head, "|" + " --- |" * len(ENGINE_COLUMNS)]
+    for _, r in df.iterrows():
+        lines.append("| " + " | ".join(cell(r, c, f) for c, _, f in ENGINE_COLUMNS) + " |")
+    return "\n".join(lines) + "\n"

@@ -172,6 +172,7 @@ def main(argv=None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     table.write(df, out)
+    (out / "engines.md").write_text(table.engines_markdown(df))  # LA against YADE against LMGC90
     render.report(df, files, done, out, wall_time=time.perf_counter() - t0)
     failed = df[(df.lp_status == "failed") | (df.nlp_status == "failed") | (df.dem_status == "failed")]
     with_lmgc = not (args.no_lmgc or args.no_dem)

@@ -261,3 +261,18 @@ def test_friction_model_stage_skips_2d_scenes():
 
     res = run_cone("unused.json", cone_options({"dim": 2}))
     assert res["lp"]["status"] == "skipped" and "2D" in res["lp"]["reason"]
+
+
+def test_engines_table_shows_numbers_and_statuses():
+    """One row per scene; a stage without a number shows why (dead-load collapse, its status)."""
+    rows = [{"name": "a", "dim": 2, "n_free": 1, "lp_alpha": 0.3, "fric_alpha": 0.3, "cone_alpha": None,
+             "cone_status": "skipped", "dem_alpha": 0.3005, "dem_vs_la": 0.0017, "dem_time_s": 3.0,
+             "lmgc_alpha": 0.30009, "lmgc_vs_la": 0.0003, "lmgc_time_s": 4.0},
+            {"name": "b", "dim": 2, "n_free": 5, "lp_alpha": None, "lp_status": "infeasible", "fric_alpha": None,
+             "nlp_status": None, "dem_alpha": None, "dem_dead": True, "dem_status": "collapsed",
+             "lmgc_alpha": None, "lmgc_status": "skipped", "lmgc_dead": False}]
+    text = table.engines_markdown(pd.DataFrame(rows))
+    lines = text.strip().splitlines()
+    assert len(lines) == 4 and lines[0].startswith("| scene |")
+    assert "| 0.30009 | +0.03% |" in lines[2] and "| skipped |" in lines[2]
+    assert "| infeasible |" in lines[3] and "dead-load collapse" in lines[3] and lines[3].count("skipped") == 1
