@@ -118,8 +118,44 @@ def test_a_fortran_stop_is_failed_not_a_crash(tmp_path):
 
 
 def test_a_run_over_its_time_limit_is_failed():
-    dem = run_scene(B.single_block(2, 0.3, 1.0, mu=0.8), engine="lmgc90", timeout_s=3.0, t_hold=1000.0)
+    """A hold of 1,000 s that never ends at rest (v_rest = 1e-30 m/s) meets a 3 s limit."""
+    dem = run_scene(B.single_block(2, 0.3, 1.0, mu=0.8), engine="lmgc90", timeout_s=3.0, t_hold=1000.0,
+                    v_rest=1e-30)
     assert dem["status"] == "failed" and "timed out" in dem["reason"]
+
+
+def _job(scene):
+    """The LMGC90 job of a scene, as run_loaded_lmgc90 builds it."""
+    from dem_validation.job import build_job
+    from dem_validation.lmgc_main import knobs as kn
+    from limit.interfaces import find_interfaces
+    from limit.loads import dead_and_live
+    from limit.scene import load_scene
+
+    sc = load_scene(scene)
+    f0, fL = dead_and_live(sc)
+    job = build_job(sc, find_interfaces(sc), f0, fL, {}, contact="polyhedra")
+    job.update(gravity=[float(x) for x in sc.gravity], rigid=kn({}))
+    return job
+
+
+def test_a_missing_lmgc90_package_is_failed_with_the_reason(tmp_path):
+    """The real entry script, in a process where ``compas_lmgc90`` cannot be imported."""
+    script = tmp_path / "no_package.py"
+    script.write_text("import sys\nsys.modules['compas_lmgc90'] = None  # any import of it now fails\n"
+                      "import lmgc_main\nsys.exit(lmgc_main.main(sys.argv))\n")
+    res = run_job(_job(B.single_block(2, 0.3, 1.0, mu=0.8)), engine="lmgc90", script=script, timeout_s=120)
+    assert res["status"] == "failed" and "LMGC90 is not installed" in res["reason"]
+
+
+def test_a_non_finite_position_is_failed_with_the_reason(tmp_path):
+    """The real entry script, with block positions read back as NaN."""
+    script = tmp_path / "nan.py"
+    script.write_text("import sys\nimport numpy as np\nimport lmgc_model\n"
+                      "lmgc_model.RigidScene._move_vectors = lambda self, *a: [np.full(6, np.nan)]\n"
+                      "import lmgc_main\nsys.exit(lmgc_main.main(sys.argv))\n")
+    res = run_job(_job(B.single_block(2, 0.3, 1.0, mu=0.8)), engine="lmgc90", script=script, timeout_s=120)
+    assert res["status"] == "failed" and "non-finite block position" in res["reason"]
 
 
 def test_bad_knobs_are_named():
