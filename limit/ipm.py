@@ -2,7 +2,10 @@
 
 Solves the scaled static LP of :mod:`limit.lp`::
 
-    minimise -alpha  s.t.  Eh x + fLh alpha = -f0h,   Yh x + s = 0,  s >= 0
+    minimise -alpha  s.t.  Eh x + fLh alpha = -f0h,   Yh x + s = c,  s >= 0
+
+(c = 0 for the LP of step 1; the iterative LP of step 2 moves the friction
+capacities mu N* into c, :mod:`limit.iterative_lp`)
 
 with Mehrotra's predictor-corrector (Gondzio's extra centrality correctors were
 tried: 10-15 % fewer iterations, more time, so not used). Its dual variables are the mechanism
@@ -237,7 +240,7 @@ class _Newton:
 
 
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
-          tol: float = 1e-9, max_iter: int = 200, verbose: bool = False) -> dict:
+          tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None) -> dict:
     """Static LP by the structured interior point method (see :func:`_solve`).
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
@@ -248,16 +251,17 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose)
+        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c)
 
 
-def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose) -> dict:
+def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None) -> dict:
     """Static LP by the structured interior point method.
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
     status ("optimal" or "failed"), alpha, xh (n_x,), vh (n_dof,), lamh
     (n_faces,), iterations, reason and per-phase seconds. ``tol`` bounds the
-    relative primal and dual residuals and the duality gap (scaled problem).
+    relative primal and dual residuals and the duality gap (scaled problem). ``c``
+    (m,): right-hand side of the yield rows (default 0).
     """
     t0 = time.perf_counter()
     Eh = sp.csr_matrix(Eh)
@@ -274,7 +278,9 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose) -> dict:
     s = np.ones(m)
     z = np.ones(m)
     y = np.zeros(nd)
+    cy = np.zeros(Yh.shape[0]) if c is None else np.asarray(c, float)
     nb = 1.0 + np.abs(b).max(initial=0.0)
+    nc = 1.0 + np.abs(cy).max(initial=0.0)
     t_setup = time.perf_counter() - t0
     t_fact = 0.0
     status, reason = "failed", f"not converged in {max_iter} iterations"
@@ -283,11 +289,11 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose) -> dict:
         rd = EhT @ y + YhT @ z
         ra = float(f @ y) - 1.0
         rp = Eh @ x + f * a - b
-        rs = Yh @ x + s
+        rs = Yh @ x + s - cy
         mu = float(s @ z) / m
-        pobj, dobj = -a, float(-b @ y)
+        pobj, dobj = -a, float(-b @ y - cy @ z)
         gap = abs(pobj - dobj) / (1.0 + abs(pobj))
-        res_p = max(np.abs(rp).max(initial=0.0) / nb, np.abs(rs).max(initial=0.0))
+        res_p = max(np.abs(rp).max(initial=0.0) / nb, np.abs(rs).max(initial=0.0) / nc)
         res_d = max(np.abs(rd).max(initial=0.0) / (1.0 + np.abs(z).max(initial=0.0)), abs(ra))
         if verbose:
             print(f"{it:3d} alpha {a:.10f} primal {res_p:.1e} dual {res_d:.1e} gap {gap:.1e} mu {mu:.1e}")

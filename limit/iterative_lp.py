@@ -7,6 +7,14 @@ iteration, which makes the LP associative *without* dilatancy (the face no
 longer involves N). After each LP, ``N* <- N* + omega (N - N*)`` (relaxation
 omega), until the normal forces settle. The rocking faces are unchanged.
 Started from the normal forces of the associative LP.
+
+Backends: ``highs`` (any size; the independent check of the validation run) and
+``ipm`` (:mod:`limit.ipm`, the structured interior point method: only the
+right-hand side of the friction rows changes, so the per-interface block
+structure survives; the large-scale route of step 2, :mod:`limit.step2_large`).
+With ``ipm`` the result also carries the last LP's point (``xh``, ``vh``,
+``lamh``: scaled actions, mechanism with fLh . vh = 1, multipliers) and
+``nstar``, for the snap to a complementary point.
 """
 from __future__ import annotations
 
@@ -30,9 +38,34 @@ def _normal_columns(P, rows):
     return col, coef
 
 
-def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300, backend: str = "highs") -> dict:
-    """{"status", "alpha", "iterations", "history", "time_s"} of the iterative LP."""
+def friction_rows(P):
+    """(fr, Yc, ncol, ncoef): the friction (sliding and twisting) yield rows, the scaled yield
+    matrix with their normal-force terms removed, and for each friction row the column and
+    coefficient of that term (-1 where none)."""
+    kind = P.model.kind
+    fr = np.flatnonzero((kind == SLIDE) | (kind == TWIST))
+    ncol, ncoef = _normal_columns(P, fr)
+    Y = P.Yh.tocoo()
+    drop = np.zeros(Y.nnz, dtype=bool)
+    is_fr = np.zeros(P.Yh.shape[0], dtype=bool)
+    is_fr[fr] = True
+    col_of = np.full(P.Yh.shape[0], -1)
+    col_of[fr] = ncol
+    drop = is_fr[Y.row] & (Y.col == col_of[Y.row])
+    Yc = sp.csr_matrix((Y.data[~drop], (Y.row[~drop], Y.col[~drop])), shape=P.Yh.shape)
+    return fr, Yc, ncol, ncoef
+
+
+def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300, backend: str = "highs",
+          nstar0: np.ndarray | None = None, on_iterate=None) -> dict:
+    """{"status", "alpha", "iterations", "history", "time_s"} of the iterative LP.
+
+    ``nstar0``: the first N* (scaled, one per friction row; default: the LP's).
+    ``on_iterate(it, r, nstar)`` (ipm backend): called after each LP with its result; a
+    true return value stops the iteration (status "stopped")."""
     t0 = time.perf_counter()
+    if backend == "ipm":
+        return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0)
     kind = P.model.kind
     fr = np.flatnonzero((kind == SLIDE) | (kind == TWIST))
     ncol, ncoef = _normal_columns(P, fr)
@@ -71,3 +104,42 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
                     "time_s": time.perf_counter() - t0}
     return {"status": "not_converged", "alpha": alpha, "iterations": max_iter, "history": history,
             "time_s": time.perf_counter() - t0, "reason": f"normal forces still changing after {max_iter} LPs"}
+
+
+#: smallest N* of the ipm backend, relative to the largest (see _solve_ipm)
+NSTAR_FLOOR = 1e-8
+
+
+def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0) -> dict:
+    from . import ipm
+
+    fr, Yc, ncol, ncoef = friction_rows(P)
+    nstar = (lp_sol.x / P.Dx)[ncol] if nstar0 is None else np.asarray(nstar0, float).copy()
+    history, r, it, status = [], None, 0, "not_converged"
+    for it in range(1, max_iter + 1):
+        c = np.zeros(Yc.shape[0])
+        # a joint that opened (N* = 0) keeps a sliver of shear capacity: with none, its two
+        # sliding faces pin the shear at zero and the interior point method has no interior
+        floor = NSTAR_FLOOR * max(float(np.max(nstar, initial=0.0)), 1e-300)
+        c[fr] = -ncoef * np.maximum(nstar, floor)
+        r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c)
+        if r["status"] != "optimal":
+            return {"status": "failed", "alpha": None, "iterations": it, "history": history,
+                    "time_s": time.perf_counter() - t0, "reason": f"LP {it}: {r['reason']}"}
+        history.append(float(r["alpha"]))
+        nnew = r["xh"][ncol]
+        change = float(np.max(np.abs(nnew - nstar), initial=0.0)) / max(float(np.max(np.abs(nnew), initial=0.0)), 1e-300)
+        if on_iterate is not None and on_iterate(it, r, nstar):
+            status = "stopped"
+            break
+        nstar = nstar + omega * (nnew - nstar)
+        if change < tol:
+            status = "converged"
+            break
+    out = {"status": status, "alpha": history[-1] if history else None, "iterations": it, "history": history,
+           "time_s": time.perf_counter() - t0, "nstar": nstar}
+    if r is not None:
+        out.update(xh=r["xh"], vh=r["vh"], lamh=r["lamh"])
+    if status == "not_converged":
+        out["reason"] = f"normal forces still changing after {max_iter} LPs"
+    return out

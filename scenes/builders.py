@@ -75,6 +75,30 @@ def single_block(dim=2, b=0.3, h=1.0, t=None, mu=0.6, name=None, **kw) -> dict:
     return scene(name or f"single-block-{dim}d", dim, blocks, friction=mu, **kw)
 
 
+def confined_block(dim=2, b=0.4, h=1.0, t=None, mu=0.5, name=None, **kw) -> dict:
+    """One free block b (along x) by h (up) [by t across] between a fixed floor and a fixed
+    ceiling that touches its top."""
+    t = b if t is None else t
+    ceiling = _place(dim, "ceiling", -b, 2 * b, h, h + 0.2, -t, 2 * t)
+    ceiling["fixed"] = True
+    blocks = [base(dim, -b, 2 * b, -t, 2 * t), _place(dim, "block", 0.0, b, 0.0, h, 0.0, t), ceiling]
+    return scene(name or f"confined-block-{dim}d", dim, blocks, friction=mu, **kw)
+
+
+def confined_block_alpha(b: float, h: float, mu: float) -> float:
+    """Frictional collapse factor of :func:`confined_block` under a horizontal body force at
+    its centroid, self weight W as dead load, when b < mu h (derivation: issue 20).
+
+    The block translates, sliding on both faces: floor N1 = W + N2 (up), ceiling N2 (down),
+    friction mu N1 and mu N2 both against the motion, so alpha W = mu (W + 2 N2). About the
+    centroid the two friction forces leave the moment mu (N1 - N2) h/2 = mu W h/2, which the
+    normal forces can resist at most by (N1 + N2) b/2 (each at an outer corner): N2 >=
+    W (mu h / b - 1) / 2, hence alpha = mu^2 h / b. With b >= mu h no ceiling force is
+    needed and alpha = mu. The associative LP has no mechanism (sliding dilates, the ceiling
+    forbids it): it is unbounded."""
+    return mu * mu * h / b if b < mu * h else mu
+
+
 def stack(n=3, dim=2, b=0.3, h=0.5, t=None, mu=0.6, name=None, **kw) -> dict:
     """n equal blocks stacked on a fixed base; block k has tag 'course-k', the top also 'top'."""
     t = b if t is None else t

@@ -57,6 +57,18 @@ def entries() -> dict:
                                    "source": "analytic: least b_e / ((h/2) d.n_e) over the base edges, load at 30 deg"})
     obl["loads"]["live"] = [{"type": "body_force", "direction": [math.cos(th), math.sin(th), 0.0]}]
     add(obl)
+    add(B.confined_block(dim=2, b=0.4, h=1.0, mu=0.5, name="confined-block-2d",
+                         expected={"alpha": B.confined_block_alpha(0.4, 1.0, 0.5), "rtol": 1e-6,
+                                   "source": "analytic (scenes/builders.confined_block_alpha): it slides on "
+                                             "floor and ceiling, alpha = mu^2 h / b for b < mu h"},
+                         meta={"title": "A block wedged between a floor and a ceiling",
+                               "notes": "Sliding needs dilatancy in the associative LP, which the ceiling forbids: "
+                                        "the LP is unbounded, and the frictional collapse load is finite. Step 2 "
+                                        "starts from an equilibrium of the dead load alone. The ceiling's reaction "
+                                        "is statically indeterminate (any N2 >= 0 carries the weight): YADE's "
+                                        "compliant contacts build up only the N2 the moment needs and slide at the "
+                                        "closed form; LMGC90's rigid contact solver settles on a larger N2 and slides "
+                                        "later (0.784 would need N2 = 0.28 W where 0.125 W suffices)."}))
     add(B.side_by_side(dim=2, mu=0.5, name="side-by-side-2d",
                        expected={"alpha": B.side_by_side_alpha(mu=0.5), "alpha_lp": 7 / 17, "rtol": 1e-6,
                                  "source": "analytic (scenes/builders.side_by_side): frictional 23/61, associative 7/17"},

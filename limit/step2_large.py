@@ -1,0 +1,202 @@
+"""Step 2 at scale: the iterative LP on the structured interior point method, snapped to
+an exactly complementary point and checked independently.
+
+Route (for scenes too large for the successive LP of :mod:`limit.nlp`, and for
+scenes whose associative LP has no mechanism):
+
+1. The iterative LP of Gilbert, Casapulla & Ahmed (2006) with the friction
+   capacities ``mu N*`` as the right-hand side of :mod:`limit.ipm`
+   (:func:`limit.iterative_lp.solve`, backend "ipm", no relaxation: omega = 1
+   settled in 28 LPs on a 45-block wall where omega = 0.5 had not in 60).
+   Each LP answer is a point of the frictional problem: its statics, and as
+   its dual the mechanism with flow ``G lam`` (no dilatancy).
+2. After each LP the point is checked (:func:`limit.nlp.check`); once its
+   complementarity residual is below ``SNAP_COMP`` the piece LP
+   (:func:`limit.nlp.polish`: faces that flow keep s = 0, the others lam = 0)
+   snaps it to an exactly complementary point, which is checked in turn. A
+   failed snap is retried only when the residual has fallen tenfold.
+3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
+   0.25 mu); the lowest verified alpha is kept. Each verified alpha is a
+   non-associative collapse state: an upper bound of the global frictional
+   minimum, not the minimum itself.
+
+When the associative LP is unbounded (sliding needs dilatancy, e.g. a block
+wedged between two fixed surfaces), the first N* comes from an equilibrium of
+the dead load alone (alpha = 0).
+
+Measured (2D running-bond walls, mu 0.9, bench/nlp_bench.py sizes; one core):
+333 blocks 0.34826 verified in 6 s (the converged iteration alone: 0.35274 in 76
+LPs, 16 s); 1,008 blocks 0.34146 in 89 s, 59 s of it in the piece LPs.
+"""
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from . import iterative_lp, lpsub, nlp
+from .nlp_problem import build
+
+#: complementarity residual (units of alpha) below which a snap by the piece LP is tried
+SNAP_COMP = 1e-3
+#: outer iterations (LPs) per start
+MAX_ITER = 100
+#: friction factors of the starts (1 = the associative LP itself)
+START_FACTORS = (1.0, 0.5, 0.25)
+
+
+def dead_load_start(P) -> np.ndarray | None:
+    """Scaled interface actions in equilibrium with the dead load alone (alpha = 0) within the
+    yield domain, or None when there are none (the dead load alone collapses)."""
+    import scipy.sparse as sp
+
+    nx = P.model.n_x
+    res = lpsub.solve(np.zeros(nx), sp.csr_matrix(P.Eh), -P.f0h, sp.csr_matrix(P.Yh), np.zeros(P.Yh.shape[0]),
+                      np.full(nx, -np.inf), np.full(nx, np.inf), "highs")
+    return res.z if res.ok else None
+
+
+def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
+    """(label, N* per friction row) of each start: the normal forces of the associative LP at
+    mu x factor (the LP's own at factor 1), or of a dead-load equilibrium when the LP has no
+    optimum."""
+    from .analysis import solve_lp
+    from .assemble import assemble
+
+    _, _, ncol, _ = iterative_lp.friction_rows(P)
+    out = []
+    if lp_sol is None or lp_sol.status != "optimal":
+        xh = dead_load_start(P)
+        return [] if xh is None else [("dead-load", xh[ncol])]
+    for f in factors:
+        if f == 1.0:
+            out.append(("lp", (lp_sol.x / P.Dx)[ncol]))
+            continue
+        P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * f))
+        sol2, _, _ = solve_lp(P2)
+        if sol2.status == "optimal":
+            out.append((f"lp-mu*{f:g}", (sol2.x / P.Dx)[ncol]))
+    return out
+
+
+def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray | None, str]:
+    """The piece LP of :func:`limit.nlp.polish`, solved as its two independent parts: with the
+    flowing faces fixed, ``min alpha`` involves only the statics (alpha, xh: equilibrium,
+    s = 0 on the flowing faces, s >= 0 elsewhere) and the kinematics (vh, lamh >= 0 on the
+    flowing faces, 0 elsewhere: flow and normalisation) is a feasibility problem. Two LPs of
+    about half the size each, instead of one (1,008-block wall: 21 s as one LP)."""
+    import scipy.sparse as sp
+
+    P = N.P
+    lam = np.maximum(z[N.sl], 0.0)
+    s = np.maximum(N.slack(z), 0.0)
+    lmax = max(lam.max(initial=0.0), 1e-300)
+    flows = lam / lmax > s / max(s.max(initial=0.0), 1e-300) if rule == "ratio" else lam > 1e-9 * lmax
+    act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
+    nx, nv = P.model.n_x, P.n_dof
+    # statics: [alpha, xh]
+    col = sp.csr_matrix(P.fLh.reshape(-1, 1))
+    Yh = sp.csr_matrix(P.Yh)
+    Aeq = sp.vstack([sp.hstack([col, P.Eh]), sp.hstack([sp.csr_matrix((act.size, 1)), Yh[act]])]).tocsr()
+    beq = np.concatenate([-P.f0h, np.zeros(act.size)])
+    Aub = sp.hstack([sp.csr_matrix((hold.size, 1)), Yh[hold]]).tocsr()
+    c = np.zeros(1 + nx)
+    c[0] = 1.0
+    lo = np.full(1 + nx, -np.inf)
+    lo[0] = 0.0
+    st = lpsub.solve(c, Aeq, beq, Aub, np.zeros(hold.size), lo, np.full(1 + nx, np.inf), backend)
+    if not st.ok:
+        return None, f"piece LP statics ({rule}): {st.status}"
+    # kinematics: [vh, lamh on the flowing faces]
+    Gh = sp.csr_matrix(N.Gh)[:, act]
+    Keq = sp.vstack([sp.hstack([P.Eh.T, -Gh]),
+                     sp.hstack([sp.csr_matrix(P.fLh.reshape(1, -1)), sp.csr_matrix((1, act.size))])]).tocsr()
+    keq = np.concatenate([np.zeros(nx), [1.0]])
+    lo = np.concatenate([np.full(nv, -np.inf), np.zeros(act.size)])
+    kin = lpsub.solve(np.zeros(nv + act.size), Keq, keq, sp.csr_matrix((0, nv + act.size)), np.zeros(0), lo,
+                      np.full(nv + act.size, np.inf), backend)
+    if not kin.ok:
+        return None, f"piece LP kinematics ({rule}): {kin.status}"
+    lamh = np.zeros(P.model.n_faces)
+    lamh[act] = kin.z[nv:]
+    return N.join(st.z[0], st.z[1:], kin.z[:nv], lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces"
+
+
+def _finish(N, z, alpha_ref, backend):
+    """Snap z by :func:`snap` (both rules, lowest alpha first) and check: (z, ok, note)."""
+    cands = []
+    for rule in ("ratio", "support"):
+        zp, note = snap(N, z, rule, backend)
+        if zp is not None:
+            cands.append((zp, note))
+    for zc, note in sorted(cands, key=lambda q: q[0][N.ia]):
+        ok, _, _ = nlp.check(N, zc, alpha_ref)
+        if ok:
+            return zc, True, note
+    return None, False, "; ".join(n for _, n in cands) or "no piece LP solved"
+
+
+def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend="highs") -> dict:
+    """One start: iterate, check each LP point, snap near complementarity. Returns
+    {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
+    t0 = time.perf_counter()
+    found: dict = {}
+    snaps = [0]
+    retry_below = [SNAP_COMP]
+
+    def on_iterate(it, r, nstar):
+        z = N.join(r["alpha"], r["xh"], r["vh"], r["lamh"])
+        ok, res, _ = nlp.check(N, z, alpha_ref)
+        if ok:
+            found.update(z=z, how="iterate", it=it)
+            return True
+        comp = res["complementarity"]
+        if comp < retry_below[0]:
+            snaps[0] += 1
+            zf, ok, note = _finish(N, z, alpha_ref, backend)
+            if ok:
+                found.update(z=zf, how=note, it=it)
+                return True
+            retry_below[0] = comp / 10.0
+        return deadline is not None and time.perf_counter() > deadline
+
+    out = iterative_lp.solve(P, None, omega=1.0, tol=1e-10, max_iter=max_iter, backend="ipm", nstar0=nstar0,
+                             on_iterate=on_iterate)
+    rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0}
+    if found:
+        return {**rec, "verified": True, "alpha": float(found["z"][N.ia]), "z": found["z"], "how": found["how"]}
+    why = out.get("reason") or ("time budget spent" if out["status"] == "stopped" else out["status"])
+    return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
+
+
+def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS) -> dict:
+    """The large-scale route of step 2: every start run (until the budget is spent), the
+    lowest verified alpha kept. Returns {"ok", "alpha", "z", "N", "starts": [per start],
+    "residuals", "reason", "time_s"}."""
+    t0 = time.perf_counter()
+    deadline = None if time_budget is None else t0 + time_budget
+    N = build(P)
+    alpha_ref = lp_sol.alpha if lp_sol is not None and lp_sol.status == "optimal" else np.inf
+    backend = "highs"
+    runs, best = [], None
+    plan = starts(P, lp_sol, factors)
+    if not plan:
+        return {"ok": False, "reason": "no start: the dead load alone has no equilibrium", "starts": [],
+                "time_s": time.perf_counter() - t0, "N": N}
+    for k, (label, nstar0) in enumerate(plan):
+        if deadline is not None and best is not None and time.perf_counter() > deadline:
+            runs.append({"start": label, "not_run": True, "reason": "time budget spent"})
+            continue
+        r = run_start(P, N, nstar0, alpha_ref, deadline=deadline, backend=backend)
+        runs.append({"start": label, **{k2: v for k2, v in r.items() if k2 != "z"}})
+        if r["verified"] and (best is None or r["alpha"] < best[0]):
+            best = (r["alpha"], r["z"], label)
+    out = {"N": N, "starts": runs, "time_s": time.perf_counter() - t0}
+    if best is None:
+        return {**out, "ok": False, "reason": "no start reached a verified point: "
+                + "; ".join(f"{r['start']}: {r.get('reason')}" for r in runs)}
+    ok, res, why = nlp.check(N, best[1], alpha_ref)
+    verified = [r["alpha"] for r in runs if r.get("verified")]
+    return {**out, "ok": ok, "alpha": best[0], "z": best[1], "start": best[2], "residuals": res, "reason": why,
+            "alpha_best": min(verified), "alpha_worst": max(verified), "n_verified": len(verified)}

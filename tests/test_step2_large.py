@@ -1,0 +1,92 @@
+"""Step 2 at scale (limit/step2_large.py): the iterative LP on the structured interior
+point method, snapped to an exactly complementary point and checked independently.
+
+Closed forms used (derivations in scenes/builders.py):
+  * a block b x h wedged between a fixed floor and a fixed ceiling slides on both at
+    alpha = mu^2 h / b when b < mu h (confined_block_alpha); its associative LP is
+    unbounded (sliding dilates, the ceiling forbids it);
+  * a slender block pushing a squat one: frictional 23/61 at mu = 0.5 (side_by_side_alpha).
+The mixed-integer LP (limit/milp.py) is the independent global reference on a small wall.
+"""
+import json
+import subprocess
+import sys
+
+import pytest
+
+from limit import nlp, step2_large
+from limit.analysis import analyse, solve_lp
+from limit.assemble import assemble
+from limit.scene import load_scene
+from scenes import builders as B
+
+
+def _solved(data):
+    P = assemble(load_scene(data))
+    sol, _, _ = solve_lp(P)
+    return P, sol
+
+
+@pytest.mark.parametrize("b,h,mu", [(0.4, 1.0, 0.5), (0.3, 1.2, 0.6)])
+def test_confined_block_from_an_unbounded_lp(b, h, mu):
+    P, sol = _solved(B.confined_block(2, b=b, h=h, mu=mu))
+    assert sol.status == "unbounded"
+    out = step2_large.solve(P, sol)
+    assert out["ok"] and out["starts"][0]["start"] == "dead-load"
+    assert out["alpha"] == pytest.approx(B.confined_block_alpha(b, h, mu), rel=1e-6)
+
+
+def test_confined_block_3d_through_analyse():
+    res = analyse(load_scene(B.confined_block(3, b=0.4, h=1.0, t=0.5, mu=0.5)), method="auto")
+    assert res["lp"]["status"] == "unbounded"
+    assert res["nlp"]["status"] == "optimal" and res["nlp"]["route"] == "iterative-lp"
+    assert res["nlp"]["alpha"] == pytest.approx(0.625, rel=1e-6)
+
+
+def test_cli_solve_auto_on_the_catalog_confined_block(tmp_path):
+    out = tmp_path / "r.json"
+    p = subprocess.run([sys.executable, "-m", "limit", "solve", "scenes/catalog/confined-block-2d.json",
+                        "--method", "auto", "--json", str(out)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    r = json.loads(out.read_text())
+    assert r["lp"]["status"] == "unbounded" and r["lp"]["alpha"] is None
+    assert r["nlp"]["alpha"] == pytest.approx(0.5 ** 2 * 1.0 / 0.4, rel=1e-6)
+
+
+def test_side_by_side_matches_the_closed_form_and_the_successive_lp():
+    data = B.side_by_side(dim=2, mu=0.5)
+    P, sol = _solved(data)
+    big = step2_large.solve(P, sol)
+    sla = nlp.step2(P, sol)
+    assert big["ok"] and big["alpha"] == pytest.approx(23 / 61, rel=1e-6)
+    assert sla["alpha"] == pytest.approx(big["alpha"], rel=1e-6)
+
+
+def test_small_wall_agrees_with_the_global_minimum():
+    """A 3-course running-bond wall of 0.4 x 0.3 m blocks (mu 0.9): the MILP proves the global
+    frictional minimum; every verified start of the large route is a collapse state, so
+    never below it, and here the best one reaches it."""
+    from limit import milp
+
+    P, sol = _solved(B.running_bond_wall(3, 2, dim=2, L=0.4, H=0.3, mu=0.9))
+    big = step2_large.solve(P, sol)
+    g = milp.global_minimum(P, sol.alpha, time_limit=300)
+    assert g["status"] == "optimal" and big["ok"]
+    assert big["alpha_worst"] >= g["alpha"] - 1e-7
+    assert big["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
+
+
+def test_a_failed_check_is_failed_never_a_number(monkeypatch):
+    P, sol = _solved(B.confined_block(2))
+    monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
+    part = nlp.step2(P, sol)
+    assert part["status"] == "failed" and part["alpha"] is None and part["route"] == "iterative-lp"
+
+
+def test_large_scenes_take_the_large_route(monkeypatch):
+    """solver='auto' picks the route by size (LARGE_MIN_FREE free blocks)."""
+    monkeypatch.setattr(nlp, "LARGE_MIN_FREE", 5)
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    part = nlp.step2(P, sol, method="nlp")
+    assert part["route"] == "iterative-lp" and part["n_starts"] == 3 and part["status"] == "optimal"
+    assert part["alpha_best"] <= part["alpha_worst"]
