@@ -411,7 +411,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
             "time_s": time.perf_counter() - t0, "solver": out.get("solver"), "start": out.get("start", "lp"),
             "route": "iterative-lp" if large else "successive-lp"}
     if large:
-        part.update({k: out.get(k) for k in ("alpha_best", "alpha_worst", "n_verified")},
+        part.update({k: out.get(k) for k in ("alpha_best", "alpha_worst", "n_verified", "workers")},
                     n_starts=len(out.get("starts", [])))
     if not out["ok"]:
         part["reason"] = out["reason"]

@@ -6,8 +6,10 @@ scenes whose associative LP has no mechanism):
 
 1. The iterative LP of Gilbert, Casapulla & Ahmed (2006) with the friction
    capacities ``mu N*`` as the right-hand side of :mod:`limit.ipm`
-   (:func:`limit.iterative_lp.solve`, backend "ipm", no relaxation: omega = 1
-   settled in 28 LPs on a 45-block wall where omega = 0.5 had not in 60).
+   (:func:`limit.iterative_lp.solve`, backend "ipm"; relaxation :data:`OMEGA`:
+   in 2D none, omega = 1 settled in 28 LPs on a 45-block wall where 0.5 had
+   not in 60; in 3D 0.5, at 1 a 42-block wall oscillated until an LP failed,
+   at 0.5 it snapped after 22).
    Each LP answer is a point of the frictional problem: its statics, and as
    its dual the mechanism with flow ``G lam`` (no dilatancy).
 2. After each LP the point is checked (:func:`limit.nlp.check`); once its
@@ -38,6 +40,8 @@ import numpy as np
 from . import iterative_lp, lpsub, nlp
 from .nlp_problem import build
 
+#: relaxation of N* per dimension (see the module docstring)
+OMEGA = {2: 1.0, 3: 0.5}
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
 #: outer iterations (LPs) per start
@@ -161,7 +165,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             retry_below[0] = comp / 10.0
         return deadline is not None and time.perf_counter() > deadline
 
-    out = iterative_lp.solve(P, None, omega=1.0, tol=1e-10, max_iter=max_iter, backend="ipm", nstar0=nstar0,
+    out = iterative_lp.solve(P, None, omega=OMEGA[P.scene.dim], tol=1e-10, max_iter=max_iter, backend="ipm", nstar0=nstar0,
                              on_iterate=on_iterate)
     rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0}
     if found:
@@ -170,29 +174,59 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
 
 
-def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS) -> dict:
+def _start_job(args) -> dict:
+    """One start in a worker process (top level, so that it pickles)."""
+    P, nstar0, alpha_ref, budget_s = args
+    deadline = None if budget_s is None else time.perf_counter() + budget_s
+    return run_start(P, build(P), nstar0, alpha_ref, deadline=deadline)
+
+
+def _run_parallel(P, plan, alpha_ref, time_budget, workers) -> list | None:
+    """Every start at once in ``workers`` processes; None when processes cannot be started
+    here (e.g. inside a daemonic worker): the caller then runs them one after another."""
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    try:
+        with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork")) as ex:
+            return list(ex.map(_start_job, [(P, n0, alpha_ref, time_budget) for _, n0 in plan]))
+    except (OSError, AssertionError, RuntimeError):
+        return None
+
+
+def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS, workers: int | None = None) -> dict:
     """The large-scale route of step 2: every start run (until the budget is spent), the
-    lowest verified alpha kept. Returns {"ok", "alpha", "z", "N", "starts": [per start],
-    "residuals", "reason", "time_s"}."""
+    lowest verified alpha kept. ``workers``: processes for the starts (default: one per core,
+    at most one per start; 1 runs them one after another). Returns {"ok", "alpha", "z", "N",
+    "starts": [per start], "residuals", "reason", "time_s", "workers"}."""
+    import os
+
     t0 = time.perf_counter()
     deadline = None if time_budget is None else t0 + time_budget
     N = build(P)
     alpha_ref = lp_sol.alpha if lp_sol is not None and lp_sol.status == "optimal" else np.inf
-    backend = "highs"
-    runs, best = [], None
     plan = starts(P, lp_sol, factors)
     if not plan:
         return {"ok": False, "reason": "no start: the dead load alone has no equilibrium", "starts": [],
-                "time_s": time.perf_counter() - t0, "N": N}
-    for k, (label, nstar0) in enumerate(plan):
-        if deadline is not None and best is not None and time.perf_counter() > deadline:
-            runs.append({"start": label, "not_run": True, "reason": "time budget spent"})
-            continue
-        r = run_start(P, N, nstar0, alpha_ref, deadline=deadline, backend=backend)
-        runs.append({"start": label, **{k2: v for k2, v in r.items() if k2 != "z"}})
+                "time_s": time.perf_counter() - t0, "N": N, "workers": 0}
+    workers = min(len(plan), workers or os.cpu_count() or 1)
+    results = None
+    if workers > 1:
+        left = None if deadline is None else max(deadline - time.perf_counter(), 0.0)
+        results = _run_parallel(P, plan, alpha_ref, left, workers)
+    if results is None:
+        workers, results = 1, []
+        for label, nstar0 in plan:
+            if deadline is not None and any(r["verified"] for r in results) and time.perf_counter() > deadline:
+                results.append({"verified": False, "not_run": True, "reason": "time budget spent", "z": None})
+                continue
+            results.append(run_start(P, N, nstar0, alpha_ref, deadline=deadline))
+    runs, best = [], None
+    for (label, _), r in zip(plan, results):
+        runs.append({"start": label, **{k: v for k, v in r.items() if k != "z"}})
         if r["verified"] and (best is None or r["alpha"] < best[0]):
             best = (r["alpha"], r["z"], label)
-    out = {"N": N, "starts": runs, "time_s": time.perf_counter() - t0}
+    out = {"N": N, "starts": runs, "time_s": time.perf_counter() - t0, "workers": workers}
     if best is None:
         return {**out, "ok": False, "reason": "no start reached a verified point: "
                 + "; ".join(f"{r['start']}: {r.get('reason')}" for r in runs)}

@@ -90,3 +90,12 @@ def test_large_scenes_take_the_large_route(monkeypatch):
     part = nlp.step2(P, sol, method="nlp")
     assert part["route"] == "iterative-lp" and part["n_starts"] == 3 and part["status"] == "optimal"
     assert part["alpha_best"] <= part["alpha_worst"]
+
+
+def test_starts_in_parallel_give_what_they_give_one_after_another():
+    """Both cores: the starts run in two processes; same verified alphas, start by start."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    one = step2_large.solve(P, sol, workers=1)
+    two = step2_large.solve(P, sol, workers=2)
+    assert one["workers"] == 1 and two["workers"] == 2
+    assert [r["alpha"] for r in one["starts"]] == pytest.approx([r["alpha"] for r in two["starts"]], rel=1e-9)
