@@ -21,8 +21,10 @@ def _parser() -> argparse.ArgumentParser:
     pi = sub.add_parser("info", help="check a scene and print its counts, mass and bounding box")
     pi.add_argument("scene")
     pi.add_argument("--json", metavar="OUT.json", help="also write the summary as JSON")
+    pi.add_argument("--strict", action="store_true", help="an unknown key in the scene is an error (exit 2)")
     ps = sub.add_parser("solve", help="limit analysis: the collapse load factor and mechanism")
     ps.add_argument("scene")
+    ps.add_argument("--strict", action="store_true", help="an unknown key in the scene is an error (exit 2)")
     ps.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
                     help="lp: associative bound only; nlp: LP then the frictional NLP; auto (default): NLP only where needed")
     ps.add_argument("--json", metavar="OUT.json", help="write the result file (CONTRACT section 3)")
@@ -60,7 +62,7 @@ def cmd_solve(args) -> int:
 
     if args.slide_faces < 4 or args.slide_faces % 2:
         raise SceneError(f"--slide-faces: must be an even number >= 4, got {args.slide_faces}")
-    scene = load_scene(args.scene)
+    scene = load_scene(args.scene, strict=args.strict)
     opts = Options(model=args.model, n_slide=args.slide_faces, slide_fit=args.slide_fit)
     nlp_options = {"solver": args.nlp_solver, "global_check": args.global_check, "iterative": args.iterative_lp,
                    "arbitrary": args.arbitrary_start}
@@ -82,7 +84,7 @@ def cmd_info(args) -> int:
     from .info import format_info, scene_info
     from .scene import load_scene
 
-    scene = load_scene(args.scene)
+    scene = load_scene(args.scene, strict=args.strict)
     info = scene_info(scene)
     print(format_info(info))
     if args.json:
@@ -93,8 +95,16 @@ def cmd_info(args) -> int:
 COMMANDS = {"info": cmd_info, "solve": cmd_solve}
 
 
+def _one_line_warnings() -> None:
+    """Warnings as 'warning: message' lines on stderr (no source line)."""
+    import warnings
+
+    warnings.showwarning = lambda msg, cat, *a, **k: print(f"warning: {msg}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
+    _one_line_warnings()
     try:
         return COMMANDS[args.command](args)
     except SceneError as exc:

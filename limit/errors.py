@@ -11,5 +11,10 @@ class SceneError(ValueError):
         super().__init__(" ".join(str(message).split()))
 
 
+class SceneWarning(UserWarning):
+    """A scene accepted with a doubt, e.g. a key its schema does not know (shown on stderr;
+    ``--strict`` turns it into a SceneError)."""
+
+
 class SolverError(RuntimeError):
     """A solver run that could not produce a trustworthy answer (exit status 1)."""

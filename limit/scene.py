@@ -260,11 +260,27 @@ def _schema_message(err, data) -> str:
 # Validation and construction
 
 
-def load_scene(source, check_overlaps: bool = True) -> Scene:
+def _unknown_keys(data: dict, strict: bool) -> None:
+    import warnings
+
+    from .errors import SceneWarning
+    from .scene_keys import unknown_keys
+
+    msgs = [f"{_where(path + (key,), data)}: unknown key" + (f" (did you mean '{near}'?)" if near else "")
+            for path, key, near in unknown_keys(data)]
+    if msgs and strict:
+        raise SceneError("; ".join(msgs))
+    for m in msgs:
+        warnings.warn(m, SceneWarning, stacklevel=3)
+
+
+def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Scene:
     """Read, validate and build a scene.
 
     ``source``: a path or an already parsed dict. Raises SceneError on any
     rejected input. ``check_overlaps`` runs the block-overlap test (on by default).
+    A key the schema does not know gives a :class:`limit.errors.SceneWarning` naming it
+    and the closest known key; with ``strict`` it is a SceneError.
     """
     if isinstance(source, dict):
         data, path = source, None
@@ -285,6 +301,7 @@ def load_scene(source, check_overlaps: bool = True) -> Scene:
         _validator()(data)
     except fastjsonschema.JsonSchemaValueException as err:
         raise SceneError(_schema_message(err, data)) from None
+    _unknown_keys(data, strict)
 
     dim = int(data["dim"])
     name = data.get("name") or (Path(path).stem if path else "scene")

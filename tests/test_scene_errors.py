@@ -5,6 +5,8 @@ import json
 import pytest
 
 from limit.cli import main
+from limit.errors import SceneError
+from limit.scene import load_scene
 from scenes import builders as B
 from tests.conftest import run_module
 
@@ -253,3 +255,54 @@ def test_subprocess_no_traceback(write_scene):
     assert r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
     assert "friction" in r.stderr
     assert not out.exists()
+
+
+def _rocking_with(**extra):
+    import json
+    from pathlib import Path
+
+    d = json.loads(Path("scenes/catalog/block-rocking-2d.json").read_text())
+    d.update(extra)
+    return d
+
+
+def test_a_typo_in_a_key_warns_naming_it_and_the_closest_known_key():
+    from limit.errors import SceneWarning
+
+    with pytest.warns(SceneWarning, match=r"frction: unknown key \(did you mean 'friction'\?\)"):
+        load_scene(_rocking_with(frction=0.3))
+
+
+def test_unknown_keys_deep_in_the_file_name_the_block():
+    from limit.errors import SceneWarning
+
+    d = _rocking_with()
+    d["blocks"][1]["fixd"] = True
+    d["loads"]["live"][0]["directon"] = [1.0, 0.0]
+    with pytest.warns(SceneWarning) as rec:
+        load_scene(d)
+    msgs = sorted(str(w.message) for w in rec)
+    assert msgs == ["blocks[1] (block 'block').fixd: unknown key (did you mean 'fixed'?)",
+                    "loads.live[0].directon: unknown key (did you mean 'direction'?)"]
+
+
+def test_strict_makes_an_unknown_key_an_error_and_exit_2(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    with pytest.raises(SceneError, match="frction"):
+        load_scene(_rocking_with(frction=0.3), strict=True)
+    path = tmp_path / "typo.json"
+    path.write_text(json.dumps(_rocking_with(frction=0.3)))
+    p = subprocess.run([sys.executable, "-m", "limit", "solve", str(path), "--strict"], capture_output=True, text=True)
+    assert p.returncode == 2 and "error: frction: unknown key (did you mean 'friction'?)" in p.stderr
+    p = subprocess.run([sys.executable, "-m", "limit", "info", str(path)], capture_output=True, text=True)
+    assert p.returncode == 0 and "warning: frction: unknown key" in p.stderr
+
+
+def test_catalog_scenes_have_no_unknown_key():
+    from scenes.catalog import catalog_files
+
+    for f in catalog_files():
+        load_scene(f, strict=True)  # raises on any unknown key
