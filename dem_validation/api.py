@@ -1,5 +1,5 @@
 """``run_scene``: the DEM pushover of one scene, as the ``dem`` part of a result
-file (CONTRACT.md section 3).
+file (docs/formats.md, 'Result file').
 
 The ``dem`` dict:
 

@@ -1,7 +1,7 @@
 """Command line: ``python -m dem_validation run SCENE.json [--json OUT.json] [knobs]``.
 
 Prints a short summary; ``--json`` writes ``{"scene", "n_blocks",
-"n_free_blocks", "n_interfaces", "dem": {...}}`` (CONTRACT.md section 3).
+"n_free_blocks", "n_interfaces", "dem": {...}}`` (docs/formats.md, 'Result file').
 Exit status: 0 when the DEM ran (collapsed or stable), 2 for a rejected
 scene or option (one line on stderr), 1 for a failed DEM run (the result file
 is still written, with ``"status": "failed"`` and the reason) or any other

@@ -1,4 +1,4 @@
-"""The two-step limit analysis of a scene, producing the result file of CONTRACT.md section 3.
+"""The two-step limit analysis of a scene, producing the result file of docs/formats.md, 'Result file'.
 
 Step 1 (:func:`solve_lp`): the associative LP, verified a posteriori
 (:mod:`limit.verify`); an answer that fails its checks is re-solved with the
@@ -126,7 +126,7 @@ def interfaces_part(P, r, cls) -> dict:
 
 def analyse(scene, method: str = "auto", options: Options | None = None, solver: str = lpmod.DEFAULT_SOLVER,
             fallback: bool = True, check_kinematic: bool = False, nlp_options: dict | None = None) -> dict:
-    """Full analysis of a scene: the result dict of CONTRACT.md section 3 (without ``dem``)."""
+    """Full analysis of a scene: the result dict of docs/formats.md, 'Result file' (without ``dem``)."""
     if method not in ("lp", "nlp", "auto"):
         raise ValueError(f"method must be lp, nlp or auto, not {method!r}")
     t0 = time.perf_counter()

@@ -1,6 +1,6 @@
 """Command line: ``python -m limit info|solve SCENE.json [--json OUT.json]``.
 
-Exit status (CONTRACT.md section 2): 0 success, 2 rejected input (one line on
+Exit status (docs/formats.md, 'Commands'): 0 success, 2 rejected input (one line on
 stderr, no traceback), 1 any other failure.
 """
 from __future__ import annotations
@@ -27,7 +27,7 @@ def _parser() -> argparse.ArgumentParser:
     ps.add_argument("--strict", action="store_true", help="an unknown key in the scene is an error (exit 2)")
     ps.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
                     help="lp: associative bound only; nlp: LP then the frictional NLP; auto (default): NLP only where needed")
-    ps.add_argument("--json", metavar="OUT.json", help="write the result file (CONTRACT section 3)")
+    ps.add_argument("--json", metavar="OUT.json", help="write the result file (docs/formats.md)")
     ps.add_argument("--solver", choices=LP_SOLVERS, default="auto",
                     help="LP solver (default auto: the structured interior point method 'ipm' from 3,000 "
                          "block unknowns on, clarabel below); a failed check falls back to another")

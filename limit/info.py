@@ -1,4 +1,4 @@
-"""Scene summary for ``python -m limit info`` (CONTRACT.md section 2)."""
+"""Scene summary for ``python -m limit info`` (docs/formats.md, 'Commands')."""
 from __future__ import annotations
 
 from .interfaces import find_interfaces

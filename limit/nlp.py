@@ -379,7 +379,7 @@ GLOBAL_MAX_BLOCKS = 30
 def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = "auto",
           arbitrary: bool = False, global_check: bool = False, iterative: bool = False,
           global_time_limit: float = 120.0, time_budget: float | None = TIME_BUDGET) -> dict:
-    """The ``nlp`` part of the result file (CONTRACT.md section 3).
+    """The ``nlp`` part of the result file (docs/formats.md, 'Result file').
 
     ``method`` "auto" skips the NLP where it cannot change the answer; "nlp" always runs it.
     ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).

@@ -1,4 +1,4 @@
-"""Scene files (format ``blockscene/1``, CONTRACT.md section 1): reading and validation.
+"""Scene files (format ``blockscene/1``, docs/formats.md, 'Scene file'): reading and validation.
 
 :func:`load_scene` turns a file (or an already parsed dict) into a :class:`Scene`
 of validated blocks, or raises :class:`~limit.errors.SceneError` with one line

@@ -62,8 +62,8 @@ def run_cone(path: str, options: dict) -> dict:
 
 
 def run_la(path: str, options: dict) -> dict:
-    """Limit analysis of the scene file at ``path``: the result file's content (CONTRACT
-    section 3); ``options`` may set the friction model (``n_slide``, ``slide_fit``)."""
+    """Limit analysis of the scene file at ``path``: the result file's content (docs/formats.md,
+    'Result file'); ``options`` may set the friction model (``n_slide``, ``slide_fit``)."""
     from limit.analysis import analyse, public
     from limit.assemble import Options
     from limit.errors import SceneError

@@ -1,4 +1,4 @@
-"""Scene builders: functions that return ``blockscene/1`` dicts (CONTRACT.md section 1).
+"""Scene builders: functions that return ``blockscene/1`` dicts (docs/formats.md, 'Scene file').
 
 Axes: 2D x horizontal, y up; 3D x along the wall, y across it, z up.
 All lengths in metres. Every builder puts a fixed base (or fixed supports)
