@@ -80,11 +80,26 @@ class Assembled:
         return out
 
 
+def _check_contacts(scene, I) -> None:
+    """SceneError naming the free blocks that touch no other block (no interface: nothing
+    could hold them, and the problem would have no row for them)."""
+    from .errors import SceneError
+
+    touched = set(np.asarray(I.a).tolist()) | set(np.asarray(I.b).tolist())
+    loose = [scene.blocks[i].id for i in scene.free if int(i) not in touched]
+    if loose:
+        shown = ", ".join(f"'{b}'" for b in loose[:5]) + (f" and {len(loose) - 5} more" if len(loose) > 5 else "")
+        raise SceneError(f"block{'s' if len(loose) > 1 else ''} {shown} touch{'es' if len(loose) == 1 else ''} "
+                         f"no other block (no interface within the tolerance {scene.tolerance:.3g} m): "
+                         f"nothing holds {'them' if len(loose) > 1 else 'it'}")
+
+
 def assemble(scene, options: Options | None = None, interfaces: Interfaces | None = None) -> Assembled:
     """Build every matrix of the problem for ``scene`` (timings in ``.timings``, seconds)."""
     options = options or Options()
     t0 = time.perf_counter()
     I = find_interfaces(scene) if interfaces is None else interfaces
+    _check_contacts(scene, I)
     t1 = time.perf_counter()
     B = kinematics.compatibility(scene, I)
     model = yield_domain.build(I, options.model, options.n_slide, options.slide_fit)

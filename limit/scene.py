@@ -332,11 +332,20 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
         vol = poly.measure * (thickness if dim == 2 else 1.0)
         if vol <= (1e-9 * scale) ** dim * (thickness if dim == 2 else 1.0):
             raise SceneError(f"blocks[{i}] (block '{bd['id']}'): degenerate block with no {'area' if dim == 2 else 'volume'}")
+        # the width across each face (a convex block's least width is across one of its faces in 2D,
+        # and at most that in 3D): a block thinner than the contact tolerance has no usable contact
+        proj = poly.vertices @ poly.face_normals.T
+        width = float(np.min(proj.max(axis=0) - proj.min(axis=0)))
+        if width <= tolerance:
+            raise SceneError(f"blocks[{i}] (block '{bd['id']}'): {width:.3g} m thin, not above the geometric "
+                             f"tolerance {tolerance:.3g} m")
         blocks.append(Block(bd["id"], i, poly, bool(bd.get("fixed", False)), rho,
                             tuple(bd.get("tags", ())), vol, rho * vol, _blocked(bd, i, dim)))
 
     if not any(b.fixed for b in blocks):
         raise SceneError("blocks: no fixed block (at least one block needs \"fixed\": true to support the others)")
+    if all(b.fixed for b in blocks):
+        raise SceneError("blocks: every block is fixed: nothing can move (leave at least one without \"fixed\": true)")
 
     friction_pairs = {}
     for k, item in enumerate(data.get("interfaces", {}).get("friction", [])):

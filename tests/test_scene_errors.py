@@ -306,3 +306,19 @@ def test_catalog_scenes_have_no_unknown_key():
 
     for f in catalog_files():
         load_scene(f, strict=True)  # raises on any unknown key
+
+
+@pytest.mark.parametrize("edit,match", [
+    (lambda d: d["blocks"][1].update(fixed=True), "every block is fixed"),
+    (lambda d: d["blocks"][1]["box"]["center"].__setitem__(1, 1.0), "block 'block' touches no other block"),
+    (lambda d: d["blocks"][1]["box"]["size"].__setitem__(0, 1e-9), r"blocks\[1\] \(block 'block'\): 1e-09 m thin"),
+])
+def test_scenes_that_once_ended_in_an_internal_error_are_rejected_naming_the_block(edit, match):
+    """Found by the mutation fuzz (tests/test_fuzz.py): no free block, a free block touching
+    nothing, a block thinner than the geometric tolerance."""
+    from limit.analysis import analyse
+
+    d = _rocking_with()
+    edit(d)
+    with pytest.raises(SceneError, match=match):
+        analyse(load_scene(d), method="lp")
