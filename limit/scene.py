@@ -82,6 +82,8 @@ class Scene:
     meta: dict = field(default_factory=dict)
     data: dict = field(default_factory=dict)
     path: str | None = None
+    sliding_faces: int | None = None   # 3D friction model declared by the scene (interfaces.sliding_faces)
+    slide_fit: str | None = None
 
     @property
     def n_blocks(self) -> int:
@@ -365,7 +367,9 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
     scene = Scene(name=name, dim=dim, gravity=gravity, friction=friction, thickness=thickness,
                   tolerance=tolerance, scale=scale, blocks=blocks, friction_pairs=friction_pairs,
                   dead=dead, live=live, expected=dict(data.get("expected", {})),
-                  meta=dict(data.get("meta", {})), data=data, path=path)
+                  meta=dict(data.get("meta", {})), data=data, path=path,
+                  sliding_faces=data.get("interfaces", {}).get("sliding_faces"),
+                  slide_fit=data.get("interfaces", {}).get("slide_fit"))
     if check_overlaps:
         from .overlap import check_overlaps as _check
 

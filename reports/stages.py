@@ -76,7 +76,7 @@ def run_la(path: str, options: dict) -> dict:
         nlp_opts = {"global_check": n_free <= options["global_max_free"],
                     "iterative": n_free <= options["iterative_max_free"],
                     "global_time_limit": options["global_time_limit"], "arbitrary": n_free <= options["global_max_free"]}
-        model = Options(n_slide=options.get("n_slide", 4), slide_fit=options.get("slide_fit", "auto"))
+        model = Options(n_slide=options.get("n_slide"), slide_fit=options.get("slide_fit", "auto"))
         res = public(analyse(scene, method=options["method"], options=model, nlp_options=nlp_opts))
     except SceneError as exc:
         res = {"lp": {"status": "failed", "alpha": None, "reason": f"rejected scene: {exc}"}}

@@ -15,16 +15,23 @@ FORMAT = "blockscene/1"
 
 
 def scene(name, dim, blocks, *, friction=0.6, density=2000.0, live=None, dead=None,
-          thickness=None, expected=None, meta=None, friction_pairs=None, **extra) -> dict:
-    """Assemble a scene dict. ``live`` defaults to a +x body force of 1 g on all blocks."""
+          thickness=None, expected=None, meta=None, friction_pairs=None, sliding_faces=4, **extra) -> dict:
+    """Assemble a scene dict. ``live`` defaults to a +x body force of 1 g on all blocks.
+    ``sliding_faces`` (3D): the friction model the scene declares; the builders keep the
+    paper's 4 faces (circumscribed: exact along the interface axes), so that the catalog
+    stays a reproduction and its closed forms are those of the paper's model (None: the
+    solver's default, 24 inscribed faces)."""
     if live is None:
         live = [{"type": "body_force", "direction": [1.0] + [0.0] * (dim - 1)}]
     out = {"format": FORMAT, "name": name, "dim": dim, "friction": friction, "density": density}
     if thickness is not None:
         out["thickness"] = thickness
     out["blocks"] = blocks
+    if dim == 3 and sliding_faces is not None:
+        out["interfaces"] = {"sliding_faces": int(sliding_faces)}
     if friction_pairs:
-        out["interfaces"] = {"friction": [{"blocks": list(p), "mu": mu} for p, mu in friction_pairs.items()]}
+        out.setdefault("interfaces", {})["friction"] = [{"blocks": list(p), "mu": mu}
+                                                        for p, mu in friction_pairs.items()]
     out["loads"] = {"dead": dead if dead is not None else [{"type": "self_weight"}], "live": live}
     if expected:
         out["expected"] = expected
