@@ -3,14 +3,23 @@
 Data flows one way: scene file -> :mod:`limit.scene` (validated blocks) ->
 :mod:`limit.interfaces` (contacts found from the geometry) -> :mod:`limit.loads`
 and :mod:`limit.kinematics` (matrices) -> solvers -> results.
+
+The public API::
+
+    import limit
+    r = limit.analyse(limit.load_scene("scenes/catalog/block-rocking-2d.json"))
+    r.lp.alpha, r.nlp.alpha, r.alpha        # associative bound, frictional, the answer
+    r.to_dict()                              # the result file's content (docs/formats.md)
+
+``analyse(scene, method="auto", options=limit.Options(...), ...)``; errors:
+:class:`SceneError` (rejected input), :class:`SolverError`; warnings:
+:class:`SceneWarning`.
 """
 
-import os
-
-# One BLAS thread: the dense algebra here is small (SLSQP, 2x2 to 6x6 blocks), runs are
-# parallelised by process, and a multi-threaded OpenBLAS on a busy machine was measured
-# to slow SLSQP down 300-fold. Set before numpy is imported; an explicit setting wins.
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_var, "1")
-
 __version__ = "0.1.0"
+
+from .api import Options, Result, StepResult, analyse, load_scene  # noqa: E402
+from .errors import SceneError, SceneWarning, SolverError  # noqa: E402
+
+__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "SceneError", "SceneWarning",
+           "SolverError", "__version__"]

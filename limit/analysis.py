@@ -126,9 +126,20 @@ def interfaces_part(P, r, cls) -> dict:
 
 def analyse(scene, method: str = "auto", options: Options | None = None, solver: str = lpmod.DEFAULT_SOLVER,
             fallback: bool = True, check_kinematic: bool = False, nlp_options: dict | None = None) -> dict:
-    """Full analysis of a scene: the result dict of docs/formats.md, 'Result file' (without ``dem``)."""
+    """Full analysis of a scene: the result dict of docs/formats.md, 'Result file' (without ``dem``).
+
+    BLAS runs on one thread meanwhile (threadpoolctl, restored on return): the dense algebra
+    here is small (SLSQP, 2x2 to 6x6 blocks), runs are parallelised by process, and a
+    multi-threaded OpenBLAS on a busy machine was measured to slow SLSQP down 300-fold."""
     if method not in ("lp", "nlp", "auto"):
         raise ValueError(f"method must be lp, nlp or auto, not {method!r}")
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options)
+
+
+def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options) -> dict:
     t0 = time.perf_counter()
     P = assemble(scene, options)
     sol, attempts, residuals = solve_lp(P, solver, fallback, check_kinematic)

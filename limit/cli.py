@@ -1,7 +1,7 @@
-"""Command line: ``python -m limit info|solve SCENE.json [--json OUT.json]``.
+"""Command line: ``limit info|solve SCENE.json [--json OUT.json]`` (or ``python -m limit``).
 
 Exit status (docs/formats.md, 'Commands'): 0 success, 2 rejected input (one line on
-stderr, no traceback), 1 any other failure.
+stderr, no traceback), 1 any other failure, 130 interrupted.
 """
 from __future__ import annotations
 
@@ -16,7 +16,10 @@ LP_SOLVERS = ["auto", "ipm", "clarabel", "ecos", "highs", "highs-ipm"]
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python -m limit", description=__doc__.splitlines()[0])
+    from . import __version__
+
+    p = argparse.ArgumentParser(prog="limit", description=__doc__.splitlines()[0])
+    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     pi = sub.add_parser("info", help="check a scene and print its counts, mass and bounding box")
     pi.add_argument("scene")
