@@ -27,7 +27,7 @@ from .stages import STAGES
 OUT = Path(__file__).resolve().parent / "out"
 
 
-def plan(files, stages, cache: Cache, fresh: bool):
+def plan(files, stages, cache: Cache, fresh: bool, lmgc_all: bool = False):
     """(done, todo): cached results and the (stage, name, key, data, options) still to run."""
     done, todo = {}, []
     for path in files:
@@ -35,7 +35,7 @@ def plan(files, stages, cache: Cache, fresh: bool):
         name = data.get("name", Path(path).stem)
         for stage in stages:
             opts_fn, _ = STAGES[stage]
-            opts = opts_fn(data)
+            opts = opts_fn(data, max_free=None) if stage == "lmgc" and lmgc_all else opts_fn(data)
             k = key(stage, data, opts)
             hit = None if fresh else cache.get(stage, name, k)
             if hit is not None:
@@ -145,6 +145,8 @@ def main(argv=None) -> int:
     ap.add_argument("--only", nargs="*", help="run only these scene names")
     ap.add_argument("--no-dem", action="store_true", help="skip the DEM stages (YADE and LMGC90)")
     ap.add_argument("--no-lmgc", action="store_true", help="skip the LMGC90 stage (rigid contacts)")
+    ap.add_argument("--lmgc-all", action="store_true",
+                    help="run LMGC90 on every scene (default: up to reports.stages.LMGC_MAX_FREE free blocks)")
     ap.add_argument("--fresh", action="store_true", help="ignore cached results")
     ap.add_argument("--no-progress", action="store_true")
     args = ap.parse_args(argv)
@@ -159,7 +161,7 @@ def main(argv=None) -> int:
     stages = ["la", "cone"] + ([] if args.no_dem else ["dem"] + ([] if args.no_lmgc else ["lmgc"]))
     cache = Cache(args.cache)
     t0 = time.perf_counter()
-    done, todo = plan(files, stages, cache, args.fresh)
+    done, todo = plan(files, stages, cache, args.fresh, lmgc_all=args.lmgc_all)
     print(f"validate: {len(files)} scenes, {len(done)} stage results cached, {len(todo)} to run", file=sys.stderr)
     try:
         done.update(execute(todo, cache, args.jobs, args.scheduler, progress=not args.no_progress))

@@ -276,3 +276,17 @@ def test_engines_table_shows_numbers_and_statuses():
     assert len(lines) == 4 and lines[0].startswith("| scene |")
     assert "| 0.30009 | +0.03% |" in lines[2] and "| skipped |" in lines[2]
     assert "| infeasible |" in lines[3] and "dead-load collapse" in lines[3] and lines[3].count("skipped") == 1
+
+
+def test_lmgc_stage_size_limit_and_its_lifting():
+    """Above LMGC_MAX_FREE free blocks the default validation skips LMGC90 with the reason;
+    --lmgc-all (max_free None) runs it."""
+    from reports.stages import LMGC_MAX_FREE, lmgc_options, run_lmgc
+
+    data = {"blocks": [{"fixed": True}] + [{} for _ in range(LMGC_MAX_FREE + 1)]}
+    opts = lmgc_options(data)
+    assert not opts["run"] and f"{LMGC_MAX_FREE + 1} free blocks" in opts["reason"] and "--lmgc-all" in opts["reason"]
+    res = run_lmgc("unused.json", opts)
+    assert res["status"] == "skipped" and res["reason"] == opts["reason"]
+    assert lmgc_options(data, max_free=None)["run"]
+    assert lmgc_options({"blocks": [{"fixed": True}, {}]})["run"]
