@@ -99,12 +99,14 @@ class Assembled:
 
 
 def _check_contacts(scene, I) -> None:
-    """SceneError naming the free blocks that touch no other block (no interface: nothing
-    could hold them, and the problem would have no row for them)."""
+    """SceneError when the scene has no interface at all, naming its free blocks (nothing could
+    hold them, and the problem would have no row); a loose block among touching ones is the
+    LP's "infeasible", with the block named (limit.analysis)."""
     from .errors import SceneError
 
-    touched = set(np.asarray(I.a).tolist()) | set(np.asarray(I.b).tolist())
-    loose = [scene.blocks[i].id for i in scene.free if int(i) not in touched]
+    if len(I):  # a loose block among others: the LP answers "infeasible" and names it
+        return
+    loose = [scene.blocks[i].id for i in scene.free]
     if loose:
         shown = ", ".join(f"'{b}'" for b in loose[:5]) + (f" and {len(loose) - 5} more" if len(loose) > 5 else "")
         raise SceneError(f"block{'s' if len(loose) > 1 else ''} {shown} touch{'es' if len(loose) == 1 else ''} "

@@ -64,8 +64,8 @@ def cmd_solve(args) -> int:
     from .scene import load_scene
     from .summary import format_result
 
-    if args.slide_faces is not None and (args.slide_faces < 4 or args.slide_faces % 2):
-        raise SceneError(f"--slide-faces: must be an even number >= 4, got {args.slide_faces}")
+    if args.slide_faces is not None and (args.slide_faces < 4 or args.slide_faces % 2 or args.slide_faces > 360):
+        raise SceneError(f"--slide-faces: must be an even number from 4 to 360, got {args.slide_faces}")
     scene = load_scene(args.scene, strict=args.strict)
     opts = Options(model=args.model, n_slide=args.slide_faces, slide_fit=args.slide_fit)
     nlp_options = {"solver": args.nlp_solver, "global_check": args.global_check, "iterative": args.iterative_lp,

@@ -227,15 +227,20 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     return True, f"{n_slide} interface(s) slide and {n_twist} twist in the LP mechanism"
 
 
-def _finish(N, z, alpha_lp, backend):
-    """Polish z with the piece LP when that helps, then check it: (z, ok, residuals, reason, note)."""
+def _finish(N, z, alpha_lp, backend, polisher=None, unpolished: bool = True):
+    """Polish z with the piece LP when that helps, then check it: (z, ok, residuals, reason, note).
+    ``polisher(N, z, backend=, rule=)``: :func:`polish` by default; ``unpolished``: z itself is
+    a candidate too (after the polished points, lowest alpha first)."""
     cands = []
     for rule in ("ratio", "support"):
-        zp, note = polish(N, z, backend, rule)
+        zp, note = (polisher or polish)(N, z, backend=backend, rule=rule)
         if zp is not None:
             cands.append((zp, note))
     cands.sort(key=lambda c: c[0][N.ia])
-    cands.append((z, "unpolished"))
+    if unpolished:
+        cands.append((z, "unpolished"))
+    if not cands:
+        return None, False, {}, "no piece LP solved", ""
     best = None
     for zc, nt in cands:
         ok, res, why = check(N, zc, alpha_lp)

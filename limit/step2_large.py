@@ -127,20 +127,6 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray 
     return N.join(st.z[0], st.z[1:], kin.z[:nv], lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces"
 
 
-def _finish(N, z, alpha_ref, backend):
-    """Snap z by :func:`snap` (both rules, lowest alpha first) and check: (z, ok, note)."""
-    cands = []
-    for rule in ("ratio", "support"):
-        zp, note = snap(N, z, rule, backend)
-        if zp is not None:
-            cands.append((zp, note))
-    for zc, note in sorted(cands, key=lambda q: q[0][N.ia]):
-        ok, _, _ = nlp.check(N, zc, alpha_ref)
-        if ok:
-            return zc, True, note
-    return None, False, "; ".join(n for _, n in cands) or "no piece LP solved"
-
-
 def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend="highs") -> dict:
     """One start: iterate, check each LP point, snap near complementarity. Returns
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
@@ -158,7 +144,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
         comp = res["complementarity"]
         if comp < retry_below[0]:
             snaps[0] += 1
-            zf, ok, note = _finish(N, z, alpha_ref, backend)
+            zf, ok, _, _, note = nlp._finish(N, z, alpha_ref, backend, polisher=snap, unpolished=False)
             if ok:
                 found.update(z=zf, how=note, it=it)
                 return True
