@@ -46,7 +46,6 @@ def friction_rows(P):
     fr = np.flatnonzero((kind == SLIDE) | (kind == TWIST))
     ncol, ncoef = _normal_columns(P, fr)
     Y = P.Yh.tocoo()
-    drop = np.zeros(Y.nnz, dtype=bool)
     is_fr = np.zeros(P.Yh.shape[0], dtype=bool)
     is_fr[fr] = True
     col_of = np.full(P.Yh.shape[0], -1)
@@ -66,15 +65,8 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
     t0 = time.perf_counter()
     if backend == "ipm":
         return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0)
-    kind = P.model.kind
-    fr = np.flatnonzero((kind == SLIDE) | (kind == TWIST))
-    ncol, ncoef = _normal_columns(P, fr)
     # Yield rows with the normal-force term of the friction faces removed (moved to the right-hand side).
-    Yc = P.Yh.tolil(copy=True)
-    for j, cidx in zip(fr, ncol):
-        if cidx >= 0:
-            Yc[j, cidx] = 0.0
-    Yc = Yc.tocsr()
+    fr, Yc, ncol, ncoef = friction_rows(P)
     nx = P.model.n_x
     n = 1 + nx
     Aeq = sp.hstack([sp.csr_matrix(P.fLh.reshape(-1, 1)), P.Eh]).tocsr()

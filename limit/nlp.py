@@ -158,19 +158,24 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
     return z, f"SLA: {iters} LPs, final penalty {rho:g}"
 
 
+def flowing_faces(N: NLPProblem, z: np.ndarray, rule: str = "ratio") -> np.ndarray:
+    """(n_faces,) bool: the faces taken as flowing at z. "ratio": lam_j / max lam > s_j / max s;
+    "support": lam_j > 1e-9 max lam (every face the mechanism uses)."""
+    lam = np.maximum(z[N.sl], 0.0)
+    s = np.maximum(N.slack(z), 0.0)
+    lmax = max(lam.max(initial=0.0), 1e-300)
+    if rule == "ratio":
+        return lam / lmax > s / max(s.max(initial=0.0), 1e-300)
+    return lam > 1e-9 * lmax
+
+
 def polish(N: NLPProblem, z: np.ndarray, backend: str, rule: str = "ratio") -> tuple[np.ndarray | None, str]:
     """The piece LP: faces that flow at z keep s = 0, the others lam = 0; min alpha exactly complementary.
 
     ``rule`` picks the flowing faces: "ratio" (lam_j / max lam > s_j / max s) or
     "support" (lam_j > 1e-9 max lam: every face the mechanism uses).
     """
-    lam = np.maximum(z[N.sl], 0.0)
-    s = np.maximum(N.slack(z), 0.0)
-    lmax = max(lam.max(initial=0.0), 1e-300)
-    if rule == "ratio":
-        flows = lam / lmax > s / max(s.max(initial=0.0), 1e-300)
-    else:
-        flows = lam > 1e-9 * lmax
+    flows = flowing_faces(N, z, rule)
     lo, hi = N.bounds()
     lo[N.ia] = 0.0
     hi[N.sl.start + np.flatnonzero(~flows)] = 0.0  # lam_j = 0 where the face holds
@@ -257,6 +262,19 @@ RANDOM_RESTARTS = (6, 2)
 FRICTION_FACTORS = (0.5, 0.25)
 
 
+def reduced_friction_lp(P, factor: float):
+    """The associative LP of P with every friction coefficient times ``factor`` (its solution,
+    or None when it has no optimum)."""
+    import dataclasses
+
+    from .analysis import solve_lp
+    from .assemble import assemble
+
+    P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor))
+    sol2, _, _ = solve_lp(P2)
+    return sol2 if sol2.status == "optimal" else None
+
+
 def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FACTORS) -> list:
     """Starts from the associative LP solved with the friction coefficients scaled down.
 
@@ -267,17 +285,10 @@ def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FAC
     full-friction LP cannot reach. Measured on running-bond walls (bench/nlp_bench.py):
     without these starts the NLP missed the global minimum in half of the cases.
     """
-    import dataclasses
-
-    from .analysis import solve_lp
-    from .assemble import assemble
-
     out = []
     for f in factors:
-        I2 = dataclasses.replace(P.I, mu=P.I.mu * f)
-        P2 = assemble(P.scene, P.options, interfaces=I2)
-        sol2, _, _ = solve_lp(P2)
-        if sol2.status != "optimal":
+        sol2 = reduced_friction_lp(P, f)
+        if sol2 is None:
             continue
         z = N.join(sol2.alpha, sol2.x / P.Dx, np.zeros(P.n_dof), np.zeros(P.model.n_faces))
         z0, _ = phase1(N, z, backend)

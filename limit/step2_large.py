@@ -32,7 +32,6 @@ LPs, 16 s); 1,008 blocks 0.34146 in 89 s, 59 s of it in the piece LPs.
 """
 from __future__ import annotations
 
-import dataclasses
 import time
 
 import numpy as np
@@ -65,9 +64,6 @@ def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
     """(label, N* per friction row) of each start: the normal forces of the associative LP at
     mu x factor (the LP's own at factor 1), or of a dead-load equilibrium when the LP has no
     optimum."""
-    from .analysis import solve_lp
-    from .assemble import assemble
-
     _, _, ncol, _ = iterative_lp.friction_rows(P)
     out = []
     if lp_sol is None or lp_sol.status != "optimal":
@@ -77,9 +73,8 @@ def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
         if f == 1.0:
             out.append(("lp", (lp_sol.x / P.Dx)[ncol]))
             continue
-        P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * f))
-        sol2, _, _ = solve_lp(P2)
-        if sol2.status == "optimal":
+        sol2 = nlp.reduced_friction_lp(P, f)
+        if sol2 is not None:
             out.append((f"lp-mu*{f:g}", (sol2.x / P.Dx)[ncol]))
     return out
 
@@ -93,10 +88,7 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray 
     import scipy.sparse as sp
 
     P = N.P
-    lam = np.maximum(z[N.sl], 0.0)
-    s = np.maximum(N.slack(z), 0.0)
-    lmax = max(lam.max(initial=0.0), 1e-300)
-    flows = lam / lmax > s / max(s.max(initial=0.0), 1e-300) if rule == "ratio" else lam > 1e-9 * lmax
+    flows = nlp.flowing_faces(N, z, rule)
     act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
     nx, nv = P.model.n_x, P.n_dof
     # statics: [alpha, xh]
