@@ -20,15 +20,19 @@ import time
 #: then the live load ramped in and held; collapse = a block moved 1e-3 x the scene size.
 KNOBS = {
     "dt": (1e-3, "time step (s); at 1e-2 a 55-block wall at rest drifted 1.8 mm in 3 s, at 1e-3 3 um"),
-    "t_load": (0.1, "gravity alone before the live load starts (s)"),
+    "t_load": (0.02, "gravity alone before the live load starts (s); rigid blocks carry their weight from the "
+                     "first step, so a short settle suffices (0.1 s gave the same alphas)"),
     "t_ramp": (0.05, "the live load rises linearly to alpha x fL over this (s)"),
     "t_hold": (0.5, "then it is held this long (s), or less when the blocks come to rest; with collapse_rel "
                     "a quarter of 1e-3, an unstable trial is told at the same excess load as after 1 s (the "
                     "motion from rest grows as t^2) in 30-35 % fewer steps (same alphas on 4 scenes)"),
-    "t_rest": (0.2, "a trial ends as stable once the load has been held this long (s) and no block "
-                    "moved faster than v_rest over the last half of it"),
+    "t_rest": (0.1, "after the load has been held this long (s), a trial ends as stable once no block moved "
+                    "faster than v_rest over the last half of it, or as a collapse once a block moved faster "
+                    "than v_go over each of its last three quarters, faster each time"),
     "v_rest": (1e-5, "rest speed (m/s; rotations x the block's radius): 50x the drift of blocks at rest, "
-                     "and an unstable trial 1e-5 above its collapse load outruns it within 0.2 s"),
+                     "and an unstable trial 1e-4 above its collapse load outruns it within 0.1 s"),
+    "v_go": (1e-3, "collapse speed (m/s): a block this fast and still speeding up after t_rest of full load; "
+                   "rigid blocks held by their contacts do not move, so only a mechanism gets there"),
     "collapse_rel": (2.5e-4, "collapse: a block moved this x the size of the free part of the scene (blocks "
                              "held moved 1e-6 to 1e-5 m)"),
     "step0": (0.05, "first trial alpha; the trials double until one collapses"),
@@ -52,9 +56,10 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
 
     def run(a, phase):
         t = trial(a)
+        ends = (", at rest" if t.get("rest") else "") + (", speeding up" if t.get("going") else "")
         history.append({"phase": phase, "alpha": a, "outcome": t["outcome"], "steps": t["steps"],
-                        "motion": t["motion"], "rest": bool(t.get("rest")),
-                        "why": f"moved {t['motion']:.3g} m in {t['time']:.3g} s" + (", at rest" if t.get("rest") else "")})
+                        "motion": t["motion"], "control": t.get("control"), "rest": bool(t.get("rest")),
+                        "going": bool(t.get("going")), "why": f"moved {t['motion']:.3g} m in {t['time']:.3g} s{ends}"})
         if emit is not None:
             emit({"phase": phase, "alpha": a, "outcome": t["outcome"], "step": sum(h["steps"] for h in history)})
         return t

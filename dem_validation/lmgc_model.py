@@ -83,6 +83,7 @@ class RigidScene:
             self.centroid.append(_volume_centroid(v, tris))
         self.density = [round(b["mass"] * g / (G_LMGC * vol), 9) for b, vol in zip(self.blocks, self.volume)]
         self.radius = [float(np.max(np.linalg.norm(v - c, axis=1))) for v, c in zip(self.verts, self.centroid)]
+        self._free_radius = np.array([self.radius[i] for i in self.free])
         lmin = min(float(np.ptp(v, axis=0).max()) for v in self.verts)
         free_v = np.vstack([self.verts[i] for i in self.free] or self.verts)
         self._size = float(np.linalg.norm(np.ptp(free_v, axis=0)))
@@ -183,9 +184,11 @@ class RigidScene:
         more than ``collapse_rel`` x the scene size (translation plus rotation x its radius)
         from its start. Stable at the end of the hold, or earlier once the load has been
         held ``t_rest`` s and no block moved faster than ``v_rest`` over the last
-        ``t_rest / 2`` s. Returns outcome (stable|collapse), motion (m), steps, time (s),
-        rest (True when it ended at rest) and the free blocks' (u, rotation vector) in
-        scene axes at the end."""
+        ``t_rest / 2`` s. A collapse too once held ``t_rest`` s, when the fastest block's speed
+        over each of the last three quarters of ``t_rest`` exceeds ``v_go`` and grows (a mechanism
+        speeding up; a transient of the ramp rocks back and forth). Returns outcome (stable|collapse), motion (m), steps, time (s),
+        rest (True when it ended at rest), going (True when it ended speeding up) and the free
+        blocks' (u, rotation vector) in scene axes at the end."""
         t_load, t_ramp, t_hold = p["t_load"], p["t_ramp"], p["t_hold"]
         sim = self.build(alpha, t_load, t_ramp)
         init = sim.get_initial_state()
@@ -194,47 +197,70 @@ class RigidScene:
         limit = p["collapse_rel"] * self.size()
         n_steps = int(math.ceil((t_load + t_ramp + t_hold) / self.dt))
         rest_from = int(math.ceil((t_load + t_ramp + p["t_rest"]) / self.dt))
-        window = max(1, int(round(0.5 * p["t_rest"] / self.dt)))
-        motion, steps, state, rest, marks = 0.0, 0, None, False, {}
+        window = max(1, int(round(0.25 * p["t_rest"] / self.dt)))
+        motion, steps, state, rest, going, marks, speeds = 0.0, 0, None, False, False, {}, []
         for steps in range(1, n_steps + 1):
             state = sim.compute_one_step()
             moves = self._move_vectors(state, x0, F0)
-            motion = max((float(np.linalg.norm(m[:3]) + np.linalg.norm(m[3:])) for m in moves), default=0.0)
+            motion = _fastest(moves)
             if not math.isfinite(motion):
                 raise FloatingPointError(f"non-finite block position at t = {steps * self.dt:.3g} s")
             if motion > limit:
                 break
             if steps % window == 0:
                 marks[steps] = moves
-                before = marks.pop(steps - window, None)
-                if steps >= rest_from and before is not None:
-                    speed = max((float(np.linalg.norm(a[:3] - b[:3]) + np.linalg.norm(a[3:] - b[3:]))
-                                 for a, b in zip(moves, before)), default=0.0) / (window * self.dt)
-                    if speed < p["v_rest"]:
-                        rest = True
-                        break
+                if steps - window in marks:
+                    speeds.append(_fastest(moves - marks[steps - window]) / (window * self.dt))
+                before = marks.pop(steps - 2 * window, None)
+                if steps < rest_from or before is None:
+                    continue
+                if _fastest(moves - before) / (2 * window * self.dt) < p["v_rest"]:
+                    rest = True
+                    break
+                s3 = speeds[-3:]
+                if len(s3) == 3 and p["v_go"] < s3[0] < s3[1] < s3[2]:
+                    going = True
+                    break
         disp = self._displacements(state, x0, F0) if state is not None else {}
-        return {"alpha": alpha, "outcome": "collapse" if motion > limit else "stable", "motion": motion,
-                "steps": steps, "time": steps * self.dt, "rest": rest, "displacement": disp}
+        control = self._control(state, x0, F0) if state is not None else 0.0
+        return {"alpha": alpha, "outcome": "collapse" if motion > limit or going else "stable", "motion": motion,
+                "control": control, "steps": steps, "time": steps * self.dt, "rest": rest, "going": going,
+                "displacement": disp}
 
-    def _move_vectors(self, state, x0, F0) -> list:
-        """Per free block [u (3), rotation vector x its radius (3)] (m) from the start."""
-        return [np.concatenate([u, r * self.radius[i]]) for i, u, r in self._moves(state, x0, F0)]
+    def _control(self, state, x0, F0) -> float:
+        """Work conjugate of alpha (m), as the YADE side's: sum_i fL_i . (u_i, rotation_i)
+        / sum_i (|fL_force_i| + |fL_moment_i| / R_i) over the free blocks."""
+        u, r = self._moves(state, x0, F0)
+        fL = np.array([self.fL[i] for i in self.free]).reshape(-1, 6)
+        den = float(np.sum(np.linalg.norm(fL[:, :3], axis=1) + np.linalg.norm(fL[:, 3:], axis=1)
+                           / np.maximum(self._free_radius, 1e-300)))
+        return float(np.sum(fL[:, :3] * u) + np.sum(fL[:, 3:] * r)) / den if den > 0 else 0.0
+
+    def _move_vectors(self, state, x0, F0) -> np.ndarray:
+        """(n_free, 6): per free block [u (3), rotation vector x its radius (3)] (m) from the start."""
+        u, r = self._moves(state, x0, F0)
+        return np.hstack([u, r * self._free_radius[:, None]]) if len(self.free) else np.zeros((0, 6))
 
     def _moves(self, state, x0, F0):
-        x = np.asarray(state.bodies, dtype=float)
-        for i in self.free:
-            F = np.asarray(state.body_frames[i], dtype=float).reshape(3, 3)
-            yield i, x[i] - x0[i], Rotation.from_matrix(F.T @ F0[i]).as_rotvec()
+        """(n_free, 3) translations (m) and (n_free, 3) rotation vectors (rad) from the start."""
+        x = np.asarray(state.bodies, dtype=float)[self.free]
+        F = np.asarray(state.body_frames, dtype=float).reshape(-1, 3, 3)[self.free]
+        R = np.einsum("kji,kjl->kil", F, np.asarray(F0, dtype=float)[self.free])  # F^T F0 per block
+        return x - x0[self.free], Rotation.from_matrix(R).as_rotvec() if len(R) else np.zeros((0, 3))
 
     def _displacements(self, state, x0, F0) -> dict:
         """{block id: motion} in scene axes (m, rad), laid out like the LP mechanism:
         [ux, uy, uz, rx, ry, rz] in 3D, [ux, uy, rz] in 2D."""
         out = {}
-        for i, u, r in self._moves(state, x0, F0):
+        for i, u, r in zip(self.free, *self._moves(state, x0, F0)):
             m = (self.Q.T @ u).tolist() + (self.Q.T @ r).tolist()
             out[str(self.blocks[i]["id"])] = [m[0], m[1], m[5]] if self.job.get("dim") == 2 else m
         return out
+
+
+def _fastest(moves: np.ndarray) -> float:
+    """Largest |u| + |rotation vector x radius| over the rows of an (n, 6) array (m); 0 for none."""
+    return float(np.max(np.linalg.norm(moves[:, :3], axis=1) + np.linalg.norm(moves[:, 3:], axis=1), initial=0.0))
 
 
 def _second_moment(v: np.ndarray, tris: np.ndarray, c: np.ndarray) -> np.ndarray:

@@ -8,9 +8,10 @@
   3D scenes as axonometric views.
 * :func:`alpha_chart`: alpha per scene and method beside the reference.
 * :func:`time_error`: run time against error per method.
-* :func:`capacity_figure`: the DEM pushover curve of one scene, alpha against
+* :func:`capacity_figure`: the pushover curves of one scene, alpha against
   the control displacement (the live load's work-conjugate displacement), one
-  line per contact stiffness, beside the limit analysis's alpha.
+  line per YADE contact stiffness and one for LMGC90's trials, beside the limit
+  analysis's alpha.
 """
 from __future__ import annotations
 
@@ -239,30 +240,37 @@ def capacity_points(dem: dict) -> dict:
     return {"curves": out, "collapse": collapse}
 
 
-def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc_alpha=None) -> bool:
-    """alpha against the control displacement (mm) of every DEM run; a dashed line at the
-    limit analysis's alpha (frictional where it ran), one at the DEM's extrapolated alpha
-    and one at LMGC90's (rigid blocks: its trials start from rest and hold or collapse, so
-    it has a collapse load but no curve). False (no figure) when the DEM has no
-    equilibrium to draw."""
+def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | None = None) -> bool:
+    """alpha against the control displacement (mm) of every YADE run and of LMGC90's
+    trials (rigid blocks: each trial starts from rest, so its points are the ends of the
+    trials that held, at a few micrometres, and its x the lowest that collapsed); dashed
+    lines at the limit analysis's alpha (frictional where it ran), at YADE's extrapolated
+    alpha and at LMGC90's. False (no figure) when neither engine has an equilibrium to draw."""
     pts = capacity_points(dem or {})
-    if not pts["curves"]:
+    rigid = capacity_points(lmgc or {}) if (lmgc or {}).get("engine") == "lmgc90" else {"curves": {}}
+    if not pts["curves"] and not rigid["curves"]:
         return False
     fig, ax = plt.subplots(figsize=(6.0, 3.8))
     for k, (eps, (u, a)) in enumerate(sorted(pts["curves"].items(), key=lambda q: -q[0])):
-        line, = ax.plot(1e3 * u, a, "o-", ms=3.5, lw=1.2, label=f"DEM equilibria, eps = {eps:.2g}")
+        line, = ax.plot(1e3 * u, a, "o-", ms=3.5, lw=1.2, label=f"YADE equilibria, eps = {eps:.2g}")
         hi = pts["collapse"].get(eps)
         if hi is not None and np.isfinite(hi) and len(u):
             ax.plot([1e3 * u[-1]], [hi], "x", color=line.get_color(), ms=8, mew=2)
+    for u, a in rigid["curves"].values():
+        ax.plot(1e3 * u, a, "s-", color="0.35", ms=3.5, lw=1.0, label="LMGC90 trials that held (rigid)")
+        hi = min(rigid["collapse"].values(), default=None)
+        if hi is not None and np.isfinite(hi) and len(u):
+            ax.plot([1e3 * u[-1]], [hi], "x", color="0.35", ms=8, mew=2)
     if la_alpha is not None and np.isfinite(la_alpha):
         ax.axhline(la_alpha, color=COLORS["nlp"], ls="--", lw=1.2, label=f"limit analysis {la_alpha:.4g}")
-    if dem.get("alpha") is not None:
-        ax.axhline(dem["alpha"], color=COLORS["dem"], ls=":", lw=1.2, label=f"DEM, rigid contacts {dem['alpha']:.4g}")
-    if lmgc_alpha is not None and np.isfinite(lmgc_alpha):
-        ax.axhline(lmgc_alpha, color="0.35", ls="-.", lw=1.2, label=f"LMGC90, rigid blocks {lmgc_alpha:.4g}")
+    if (dem or {}).get("alpha") is not None:
+        ax.axhline(dem["alpha"], color=COLORS["dem"], ls=":", lw=1.2, label=f"YADE, rigid contacts {dem['alpha']:.4g}")
+    lm_alpha = (lmgc or {}).get("alpha") if (lmgc or {}).get("status") == "collapsed" else None
+    if lm_alpha is not None and np.isfinite(lm_alpha):
+        ax.axhline(lm_alpha, color="0.35", ls="-.", lw=1.2, label=f"LMGC90, rigid blocks {lm_alpha:.4g}")
     ax.set_xlabel("control displacement (mm): live-load work / |live load|")
     ax.set_ylabel("load factor alpha")
-    ax.set_title(("YADE pushover curve" + (f": {title}" if title else "")) + " (x: first collapse)", fontsize=9)
+    ax.set_title(("pushover curves" + (f": {title}" if title else "")) + " (x: first collapse)", fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, loc="lower right")
     fig.tight_layout()

@@ -217,8 +217,7 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
             if la_alpha is None or not math.isfinite(la_alpha):
                 la_alpha = float(row["lp_alpha"].iloc[0]) if len(row) and _finite(row["lp_alpha"].iloc[0]) else None
             lm = results.get((name, "lmgc")) or {}
-            if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name,
-                                     lmgc_alpha=lm.get("alpha") if lm.get("status") == "collapsed" else None):
+            if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name, lmgc=lm):
                 cap_png[name] = f"figures/{name}-capacity.png"
         except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is noted, not fatal
             mech_png[name] = None

@@ -87,15 +87,22 @@ def test_block_under_its_weight_alone_is_a_dead_load_collapse():
 
 def test_stable_trials_end_once_at_rest_and_the_answer_stays():
     """A 0.3 x 1 block rocks at alpha = b/h = 0.3 (moment about the toe: alpha W h/2 = W b/2).
-    With a 5 s hold, every stable trial ends at rest after t_rest = 0.2 s of full load (the
-    blocks do not move once held), every collapse trial is above 0.3 and every rest below it."""
+    With a 5 s hold, every stable trial ends at rest t_rest after the full load (the blocks
+    do not move once held) and every collapse trial ends long before the hold is over (past
+    the motion limit, or speeding up); every collapse is above 0.3 and every rest at or below it.
+    The control displacement (live-load work / |live load|) is positive for a collapse (the
+    load does work on the mechanism) and micrometres for a trial that held."""
+    p = knobs({})
     dem = run_scene(B.single_block(2, 0.3, 1.0, mu=0.8), engine="lmgc90", timeout_s=300, t_hold=5.0)
     assert dem["status"] == "collapsed" and abs(dem["alpha"] / 0.3 - 1) < 0.002
     stable = [h for h in dem["history"] if h["outcome"] == "stable"]
-    full = round((0.1 + 0.05 + 5.0) / 1e-3)
+    collapse = [h for h in dem["history"] if h["outcome"] == "collapse"]
+    full = round((p["t_load"] + p["t_ramp"] + 5.0) / p["dt"])
     assert stable and all(h["rest"] and h["steps"] < full / 5 for h in stable)
-    assert all(h["alpha"] < 0.3 for h in stable)
-    assert all(h["alpha"] > 0.3 and not h["rest"] for h in dem["history"] if h["outcome"] == "collapse")
+    assert all(h["alpha"] <= 0.3 * (1 + 1e-12) and abs(h["control"]) < 1e-5 for h in stable)  # 0.3 holds
+    assert collapse and all(h["alpha"] > 0.3 and not h["rest"] and h["steps"] < full / 5 for h in collapse)
+    assert all(h["control"] > 0 for h in collapse)
+    assert any(h["going"] for h in collapse)  # the nearest ones are told by their speeding up
 
 
 def test_per_pair_friction_is_skipped_with_the_reason():
@@ -152,7 +159,7 @@ def test_a_non_finite_position_is_failed_with_the_reason(tmp_path):
     """The real entry script, with block positions read back as NaN."""
     script = tmp_path / "nan.py"
     script.write_text("import sys\nimport numpy as np\nimport lmgc_model\n"
-                      "lmgc_model.RigidScene._move_vectors = lambda self, *a: [np.full(6, np.nan)]\n"
+                      "lmgc_model.RigidScene._move_vectors = lambda self, *a: np.full((1, 6), np.nan)\n"
                       "import lmgc_main\nsys.exit(lmgc_main.main(sys.argv))\n")
     res = run_job(_job(B.single_block(2, 0.3, 1.0, mu=0.8)), engine="lmgc90", script=script, timeout_s=120)
     assert res["status"] == "failed" and "non-finite block position" in res["reason"]

@@ -200,6 +200,21 @@ def test_capacity_curve_points_follow_the_load_order():
     assert not capacity_figure({"history": []}, 0.3, "unused.png")  # nothing to draw: no figure
 
 
+def test_capacity_figure_draws_lmgc90_trials_without_yade(tmp_path):
+    """LMGC90's trials (eps 0, rigid) are a curve of their own: a figure is drawn from them
+    alone, and only from an LMGC90 result (a YADE-like dict passed as lmgc draws nothing)."""
+    from reports.plots import capacity_figure, capacity_points
+
+    hist = [{"eps": 0.0, "phase": "settle", "alpha": 0.0, "outcome": "stable", "control": 1e-7},
+            {"eps": 0.0, "phase": "load", "alpha": 0.29, "outcome": "stable", "control": 2e-6},
+            {"eps": 0.0, "phase": "load", "alpha": 0.31, "outcome": "collapse", "control": 3e-4}]
+    lm = {"engine": "lmgc90", "status": "collapsed", "alpha": 0.3, "history": hist}
+    u, a = capacity_points(lm)["curves"][0.0]
+    assert list(a) == [0.0, 0.29] and list(u) == [1e-7, 2e-6]
+    assert capacity_figure(None, 0.3, tmp_path / "c.png", lmgc=lm) and (tmp_path / "c.png").stat().st_size > 0
+    assert not capacity_figure(None, 0.3, tmp_path / "d.png", lmgc={**lm, "engine": "yade"})
+
+
 def test_dem_below_the_nlp_points_at_a_lower_iterative_lp_value():
     """Fig. 3 with 70 stones, measured: LP = NLP = 0.5708 (the NLP stayed at its associative
     start), the iterative LP 0.5230, the DEM 0.5012. The text must name the iterative LP's
