@@ -60,6 +60,7 @@ def scenes(draw):
         shift = 0.5 * (1 - 1e-3 * draw(st.floats(0.5, 2.0)))
         d["blocks"][2]["box"]["center"][0] += shift
         d["blocks"][0]["box"]["size"][0] = 3.0
+    d["meta"] = {"kind": kind}
     return d
 
 
@@ -92,18 +93,55 @@ def test_alpha_invariant_to_rigid_motion_scale_and_order(d, seed, s):
         assert sol1.alpha == pytest.approx(sol0.alpha, rel=1e-6, abs=1e-9)
 
 
-@SETTINGS
-@given(scenes(), st.floats(1.05, 5.0))
-def test_lp_alpha_non_decreasing_in_mu(d, factor):
-    lo, P_lo, _ = alpha_lp(d)
-    d2 = dict(d, friction=d["friction"] * factor)
-    hi, P_hi, _ = alpha_lp(d2)
-    reverify(P_lo, lo)
-    reverify(P_hi, hi)
-    if lo.status == "optimal" and hi.status == "optimal":
-        assert hi.alpha >= lo.alpha - 1e-7 * max(1.0, abs(lo.alpha))
-    if lo.status == "unbounded":
-        assert hi.status == "unbounded"
+MAX_FAILED = 1  # solves allowed to end "failed" (with a reason) per property run; measured: 0
+
+
+def overturns_under_dead_load(d) -> bool:
+    """True for the "sliver3" scenes: the top block (width b) is shifted by 0.5 b (1 - eps), so its
+    centroid lies 0.25 b (1 - 2 eps) m beyond the edge of the block under it: it overturns under
+    its own weight whatever mu, and the LP must answer "infeasible" (no statics can carry it)."""
+    return d["meta"]["kind"] == "sliver3"
+
+
+def check_status(sol, d, tally):
+    """Counts the statuses; a status other than optimal carries a reason; overturning scenes are infeasible."""
+    tally[sol.status] = tally.get(sol.status, 0) + 1
+    assert sol.status in ("optimal", "unbounded", "infeasible", "failed"), sol.status
+    if sol.status != "optimal":
+        assert sol.reason, f"{sol.status} without a reason"
+    if overturns_under_dead_load(d):
+        assert sol.status == "infeasible", (sol.status, sol.reason)
+
+
+def test_lp_alpha_non_decreasing_in_mu():
+    """A larger mu enlarges the static LP's feasible set, so alpha(mu * factor) >= alpha(mu)
+    (unbounded stays unbounded; optimal cannot become infeasible). Failed solves are bounded
+    (MAX_FAILED over 2 * EXAMPLES solves) and at least 80 % of the examples give two numbers."""
+    tally, pairs = {}, []
+
+    @SETTINGS
+    @given(scenes(), st.floats(1.05, 5.0))
+    def run(d, factor):
+        lo, P_lo, _ = alpha_lp(d)
+        d2 = dict(d, friction=d["friction"] * factor)
+        hi, P_hi, _ = alpha_lp(d2)
+        reverify(P_lo, lo)
+        reverify(P_hi, hi)
+        check_status(lo, d, tally)
+        check_status(hi, d2, tally)
+        pairs.append((lo.status, hi.status))
+        if lo.status == "optimal" and hi.status == "optimal":
+            assert hi.alpha >= lo.alpha - 1e-7 * max(1.0, abs(lo.alpha))
+        if lo.status == "optimal":
+            assert hi.status in ("optimal", "unbounded", "failed"), (hi.status, hi.reason)
+        if lo.status == "unbounded":
+            assert hi.status in ("unbounded", "failed"), (hi.status, hi.reason)
+
+    run()
+    assert len(pairs) >= EXAMPLES
+    assert tally.get("failed", 0) <= MAX_FAILED, tally
+    both = sum(1 for p in pairs if p == ("optimal", "optimal"))
+    assert both >= 0.8 * len(pairs), (both, len(pairs), tally)
 
 
 @SETTINGS
@@ -120,20 +158,36 @@ def test_static_equals_kinematic(d):
         assert kin.status == "unbounded"  # no mechanism: the kinematic LP is infeasible
 
 
-@settings(max_examples=EXAMPLES // 2, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
-@given(scenes())
-def test_nlp_never_above_lp_and_verified(d):
-    P = assemble(load_scene(d))
-    sol, _, _ = solve_lp(P)
-    reverify(P, sol)
-    if sol.status != "optimal":
-        return
-    part = nlp.step2(P, sol, method="nlp")
-    assert part["status"] in ("optimal", "failed")
-    if part["status"] == "optimal":
-        assert part["alpha"] <= sol.alpha + 1e-6 * max(1.0, sol.alpha)
-        v = part["verification"]
-        assert v["equilibrium"] <= verify.TOL_EQ and v["complementarity"] <= 1e-6
-    else:
-        assert part["alpha"] is None and part["reason"]
+def test_nlp_never_above_lp_and_verified():
+    """The NLP (non-associative) alpha is at most the LP's, and its end point is verified
+    (equilibrium <= verify.TOL_EQ, complementarity <= 1e-6). At most MAX_FAILED NLP runs may
+    end "failed" (then with alpha None and a reason), and at least 75 % of the EXAMPLES // 2
+    scenes must reach a verified NLP number (the overturning sliver scenes have no LP start)."""
+    tally, lp_tally = {}, {}
+
+    @settings(max_examples=EXAMPLES // 2, deadline=None, derandomize=True,
+              suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+    @given(scenes())
+    def run(d):
+        P = assemble(load_scene(d))
+        sol, _, _ = solve_lp(P)
+        reverify(P, sol)
+        check_status(sol, d, lp_tally)
+        if sol.status != "optimal":
+            return
+        part = nlp.step2(P, sol, method="nlp")
+        tally[part["status"]] = tally.get(part["status"], 0) + 1
+        assert part["status"] in ("optimal", "failed"), part
+        if part["status"] == "optimal":
+            assert part["alpha"] <= sol.alpha + 1e-6 * max(1.0, sol.alpha)
+            v = part["verification"]
+            assert v["equilibrium"] <= verify.TOL_EQ and v["complementarity"] <= 1e-6
+        else:
+            assert part["alpha"] is None and part["reason"]
+
+    run()
+    n = sum(lp_tally.values())
+    assert n >= EXAMPLES // 2
+    assert lp_tally.get("failed", 0) <= MAX_FAILED, lp_tally
+    assert tally.get("failed", 0) <= MAX_FAILED, tally
+    assert tally.get("optimal", 0) >= 0.75 * n, (tally, lp_tally)
