@@ -91,16 +91,36 @@ def test_normals_point_from_a_to_b_and_frames_are_right_handed():
 
 
 def test_corner_walls_counts():
-    # 4 courses; per course: wall A (4 blocks + corner) and wall B; checked with the builder's layout.
+    """corner_walls(courses=2, len_a=2, len_b=2): L = 0.4, H = 0.2, T = L/2 = 0.2 m,
+    XA = YB = T + 2 L = 1.0 m. Joints from _bond_edges (last block merged only if < L/4):
+
+    course 0 (z 0-0.2): A0 x [0,.4] [.4,.8] [.8,1.0] (y 0-.2); B0 y [.2,.6] [.6,1.0] (x 0-.2)
+    course 1 (z .2-.4): A1 x [.2,.6] [.6,1.0];                  B1 y [0,.4] [.4,.8] [.8,1.0]
+
+    Face contacts (positive area; the line contacts, e.g. A1-0 over B0-0 at x = .2, do not count):
+    base under course 0: 5 (areas .08 .08 .04 .08 .08 m2);
+    course 0 head joints: A0-0|A0-1, A0-1|A0-2, B0-0|B0-1, and A0-0|B0-0 (face y = .2): 4;
+    course 1 head joints: A1-0|A1-1, B1-0|B1-1, B1-1|B1-2, and A1-0|B1-0 (face x = .2): 4;
+    bed joint 0|1: A1-0 on A0-0, A0-1; A1-1 on A0-1, A0-2; B1-0 on A0-0 (corner square)
+    and B0-0; B1-1 on B0-0, B0-1; B1-2 on B0-1: 9.
+    Total 5 + 4 + 4 + 9 = 22; every contact but the base ones is 0.2 x 0.2 = 0.04 m2.
+    """
     s = load_scene(B.corner_walls(courses=2, len_a=2, len_b=2))
     I = find_interfaces(s)
-    # Course 0: A0 [0,.4][.4,.8][.8,.9]; B0 y [.2,.6][.6,.9]. Course 1: A1 [.2,.6][.6,.9]; B1 [0,.4][.4,.8][.8,.9]
-    # base: 5 contacts; course joints: A0 2 + B0 1 + A0-B0 corner 1 = 4; course 1: 1 + 2 + 1 = 4;
-    # between courses 1|0: A1 on A0 3 (x .2-.4, .4-.6, .6-.8) + wait, .6-.9 over .4-.8 and .8-.9 -> 4 total for A;
-    # B1 [0,.4] on A0 [0,.4] (corner square) and on B0 [.2,.6]; [.4,.8] on B0 twice; [.8,.9] on B0 [.6,.9].
-    expect = 5 + 4 + 4 + 4 + 2 + 2 + 1
+    big = {("base", "A0-0"), ("base", "A0-1"), ("base", "B0-0"), ("base", "B0-1")}
+    expect = big | {("base", "A0-2"),
+                    ("A0-0", "A0-1"), ("A0-1", "A0-2"), ("B0-0", "B0-1"), ("A0-0", "B0-0"),
+                    ("A1-0", "A1-1"), ("B1-0", "B1-1"), ("B1-1", "B1-2"), ("A1-0", "B1-0"),
+                    ("A0-0", "A1-0"), ("A0-1", "A1-0"), ("A0-1", "A1-1"), ("A0-2", "A1-1"),
+                    ("A0-0", "B1-0"), ("B0-0", "B1-0"), ("B0-0", "B1-1"), ("B0-1", "B1-1"), ("B0-1", "B1-2")}
+    expect = {tuple(sorted(p)) for p in expect}
+    assert len(expect) == 22
     assert s.n_blocks == 1 + 5 + 5
-    assert len(I) == expect
+    assert len(I) == 22
+    got = by_pair(s, I)
+    assert set(got) == expect
+    for pair, k in got.items():
+        assert I.area[k] == pytest.approx(0.08 if pair in {tuple(sorted(q)) for q in big} else 0.04, rel=1e-9)
 
 
 def test_fixed_fixed_contacts_ignored():
