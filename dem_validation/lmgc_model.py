@@ -184,9 +184,10 @@ class RigidScene:
         more than ``collapse_rel`` x the scene size (translation plus rotation x its radius)
         from its start. Stable at the end of the hold, or earlier once the load has been
         held ``t_rest`` s and no block moved faster than ``v_rest`` over the last
-        ``t_rest / 2`` s. A collapse too once held ``t_rest`` s, when the fastest block's speed
-        over each of the last three quarters of ``t_rest`` exceeds ``v_go`` and grows (a mechanism
-        speeding up; a transient of the ramp rocks back and forth). Returns outcome (stable|collapse), motion (m), steps, time (s),
+        ``t_rest / 2`` s. A collapse too once held ``t_rest`` s, when a block moved past ``go_rel``
+        of the collapse motion and the fastest block's speed grew over each of the last three
+        quarters of ``t_rest`` (a mechanism speeding up; a transient of the ramp rocks back and
+        forth, and contact chatter stays far below that motion). Returns outcome (stable|collapse), motion (m), steps, time (s),
         rest (True when it ended at rest), going (True when it ended speeding up) and the free
         blocks' (u, rotation vector) in scene axes at the end."""
         t_load, t_ramp, t_hold = p["t_load"], p["t_ramp"], p["t_hold"]
@@ -218,7 +219,7 @@ class RigidScene:
                     rest = True
                     break
                 s3 = speeds[-3:]
-                if len(s3) == 3 and p["v_go"] < s3[0] < s3[1] < s3[2]:
+                if motion > p["go_rel"] * limit and len(s3) == 3 and p["v_rest"] < s3[0] < s3[1] < s3[2]:
                     going = True
                     break
         disp = self._displacements(state, x0, F0) if state is not None else {}

@@ -77,8 +77,14 @@ def entries() -> dict:
                                       "block slides and overestimates alpha by 9 %."}))
     add(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2, name="wall-3x3-opening-2d",
                             expected={"alpha": 5 / 14, "alpha_lp": 1.0, "rtol": 1e-4,
-                                      "source": "global minimum by mixed-integer LP (limit/milp.py, proven); "
-                                                "the issue's DEM probe found 0.357"},
+                                      "source": "by hand: c1-3 (0.2 x 0.4 m, centroid (1.1, 0.6)) and c2-2 (0.4 x 0.4 m, "
+                                                "centroid (1.0, 1.0)) turn together about the toe (1.2, 0.4); per unit "
+                                                "rotation their centroids move 0.2 and 0.6 m along +x and rise 0.1 and "
+                                                "0.2 m: work against the dead load 0.08*0.1 + 0.16*0.2 = 0.04, work of "
+                                                "the live load 0.08*0.2 + 0.16*0.6 = 0.112 (times rho g t), alpha = "
+                                                "0.04/0.112 = 5/14 (tests/test_catalog.py); no mechanism is lower: "
+                                                "global minimum by mixed-integer LP (limit/milp.py); the issue's DEM "
+                                                "probe found 0.357"},
                             meta={"title": "3 x 3 running-bond wall whose joints open while they slide",
                                   "notes": "The LP's dilatant mechanism needs alpha = 1.0; without dilatancy the end "
                                            "blocks rock about a toe while the joints above open and slide at zero "
