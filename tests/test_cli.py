@@ -1,0 +1,116 @@
+"""``limit solve`` (limit/cli.py): the result file, its exit statuses and its option checks
+(docs/formats.md, 'Result file' and 'Commands')."""
+import json
+import math
+
+import pytest
+
+from limit import lp as lpmod
+from limit import nlp
+from limit.cli import main
+
+from tests.conftest import ROOT, run_module
+
+SIDE = ROOT / "scenes" / "catalog" / "side-by-side-2d.json"
+# side-by-side-2d (mu 0.5): frictional 23/61, associative 7/17; closed forms in the docstring of
+# scenes/builders.side_by_side (outside limit/). 23/61 = (0.6*0.3*0.5 + 0.2*0.2*1.25/2) / (0.2*1.25/2 + 0.6*0.3).
+ALPHA_NLP, ALPHA_LP = 23 / 61, 7 / 17
+
+
+def _strict_load(path):
+    """Parse a JSON file, rejecting NaN / Infinity tokens (not JSON, though Python's json writes them)."""
+    def no_constant(tok):
+        raise ValueError(f"non-JSON constant {tok}")
+    return json.loads(path.read_text(), parse_constant=no_constant)
+
+
+def test_solve_json_keys_and_values(tmp_path):
+    """Exit 0; the contract keys of the result file, nothing private ('_' keys); side-by-side-2d has
+    3 blocks (base, A, B), 2 free, 3 interfaces (base|A, base|B, A|B); LP 7/17, NLP 23/61; the LP
+    mechanism has [ux, uy, rz] per free block."""
+    out = tmp_path / "r.json"
+    p = run_module("limit", "solve", SIDE, "--json", out)
+    assert p.returncode == 0, p.stderr
+    r = _strict_load(out)
+    assert set(r) == {"scene", "dim", "n_blocks", "n_free_blocks", "n_interfaces", "lp", "nlp"}
+    assert (r["scene"], r["dim"], r["n_blocks"], r["n_free_blocks"], r["n_interfaces"]) == \
+        ("side-by-side-2d", 2, 3, 2, 3)
+    assert {"status", "alpha", "time_s", "solver", "timings", "attempts", "model", "verification",
+            "mechanism", "normalisation", "interfaces", "counts"} <= set(r["lp"])
+    assert {"status", "alpha", "time_s", "verification", "runs"} <= set(r["nlp"])
+    assert not any(k.startswith("_") for part in (r, r["lp"], r["nlp"]) for k in part)
+    assert r["lp"]["status"] == "optimal" and r["lp"]["alpha"] == pytest.approx(ALPHA_LP, rel=1e-6)
+    assert r["nlp"]["status"] == "optimal" and r["nlp"]["alpha"] == pytest.approx(ALPHA_NLP, rel=1e-6)
+    assert set(r["lp"]["mechanism"]) == {"A", "B"}
+    assert all(len(v) == 3 for v in r["lp"]["mechanism"].values())
+    assert sorted(map(sorted, r["lp"]["interfaces"]["pairs"])) == [["A", "B"], ["A", "base"], ["B", "base"]]
+    # the printed summary carries both numbers
+    assert f"{ALPHA_LP:.6g}" in p.stdout and f"{ALPHA_NLP:.6g}" in p.stdout
+
+
+def test_solve_json_nan_becomes_null(tmp_path, monkeypatch):
+    """A solver that reports no solve time gives timings NaN (limit/lp.py, _solve): the file holds
+    null there and stays strict JSON; the other numbers are unchanged."""
+    real = lpmod._solve
+
+    def no_solve_time(*a, **k):
+        status, t = real(*a, **k)
+        return status, dict(t, solve_s=float("nan"), compile_s=float("nan"))
+
+    monkeypatch.setattr(lpmod, "_solve", no_solve_time)
+    out = tmp_path / "r.json"
+    assert main(["solve", str(SIDE), "--method", "lp", "--solver", "clarabel", "--json", str(out)]) == 0
+    r = _strict_load(out)
+    assert "NaN" not in out.read_text()
+    assert "solve_s" in r["lp"]["timings"] and r["lp"]["timings"]["solve_s"] is None
+    assert r["lp"]["timings"]["compile_s"] is None
+    assert r["lp"]["alpha"] == pytest.approx(ALPHA_LP, rel=1e-6)
+    assert math.isfinite(r["lp"]["timings"]["solver_total_s"])
+
+
+def test_solve_exit_1_when_nlp_fails_keeps_lp_bound(tmp_path, monkeypatch, capsys):
+    """Step 2 forced to fail (every NLP end point rejected by its check): exit 1, the result file is
+    still written with the checked LP bound 7/17 and the NLP 'failed' with alpha null and a reason."""
+    monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
+    out = tmp_path / "r.json"
+    assert main(["solve", str(SIDE), "--json", str(out)]) == 1
+    r = _strict_load(out)
+    assert r["lp"]["status"] == "optimal" and r["lp"]["alpha"] == pytest.approx(ALPHA_LP, rel=1e-6)
+    assert r["nlp"]["status"] == "failed" and r["nlp"]["alpha"] is None and r["nlp"]["reason"]
+    printed = capsys.readouterr().out
+    assert f"{ALPHA_LP:.6g}" in printed and "failed" in printed
+
+
+@pytest.mark.parametrize("args, option", [
+    (["--slide-faces", "3"], "--slide-faces"),
+    (["--slide-faces", "5"], "--slide-faces"),
+    (["--slide-faces", "362"], "--slide-faces"),
+    (["--nlp-time-budget", "0"], "--nlp-time-budget"),
+    (["--nlp-time-budget", "-1"], "--nlp-time-budget"),
+    (["--nlp-time-budget", "nan"], "--nlp-time-budget"),
+])
+def test_solve_rejects_bad_option_values_in_one_line(args, option, capsys, tmp_path):
+    """Values argparse lets through but cmd_solve rejects: exit 2, one line on stderr naming the
+    option, no result file."""
+    out = tmp_path / "r.json"
+    assert main(["solve", str(SIDE), "--json", str(out), *args]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: ") and option in err[0], err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("args, option", [
+    (["--method", "exact"], "--method"),
+    (["--solver", "gurobi"], "--solver"),
+    (["--model", "fem"], "--model"),
+    (["--slide-fit", "tight"], "--slide-fit"),
+    (["--nlp-solver", "ipopt"], "--nlp-solver"),
+    (["--slide-faces", "four"], "--slide-faces"),
+    (["--nlp-time-budget", "soon"], "--nlp-time-budget"),
+])
+def test_solve_rejects_bad_choices(args, option, capsys):
+    """Values argparse itself rejects: exit 2 and a message naming the option."""
+    with pytest.raises(SystemExit) as exc:
+        main(["solve", str(SIDE), *args])
+    assert exc.value.code == 2
+    assert option in capsys.readouterr().err
