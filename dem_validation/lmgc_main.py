@@ -27,13 +27,9 @@ KNOBS = {
                     "a quarter of 1e-3, an unstable trial is told at the same excess load as after 1 s (the "
                     "motion from rest grows as t^2) in 30-35 % fewer steps (same alphas on 4 scenes)"),
     "t_rest": (0.1, "after the load has been held this long (s), a trial ends as stable once no block moved "
-                    "faster than v_rest over the last half of it (or as a collapse, see go_rel)"),
+                    "faster than v_rest over the last half of it"),
     "v_rest": (1e-5, "rest speed (m/s; rotations x the block's radius): 50x the drift of blocks at rest, "
                      "and an unstable trial 1e-4 above its collapse load outruns it within 0.1 s"),
-    "go_rel": (0.5, "collapse, early: a block moved past this fraction of the collapse motion and the fastest "
-                    "block sped up over each of the last three quarters of t_rest (motion from rest grows as "
-                    "t^2: 0.5 ends a collapsing trial in 0.71 of the time; the 27-voussoir arch's contact "
-                    "chatter, 3e-3 m/s, stays 1/50 of that motion)"),
     "collapse_rel": (2.5e-4, "collapse: a block moved this x the size of the free part of the scene (blocks "
                              "held moved 1e-6 to 1e-5 m)"),
     "step0": (0.05, "first trial alpha; the trials double until one collapses"),
@@ -57,10 +53,9 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
 
     def run(a, phase):
         t = trial(a)
-        ends = (", at rest" if t.get("rest") else "") + (", speeding up" if t.get("going") else "")
         history.append({"phase": phase, "alpha": a, "outcome": t["outcome"], "steps": t["steps"],
                         "motion": t["motion"], "control": t.get("control"), "rest": bool(t.get("rest")),
-                        "going": bool(t.get("going")), "why": f"moved {t['motion']:.3g} m in {t['time']:.3g} s{ends}"})
+                        "why": f"moved {t['motion']:.3g} m in {t['time']:.3g} s" + (", at rest" if t.get("rest") else "")})
         if emit is not None:
             emit({"phase": phase, "alpha": a, "outcome": t["outcome"], "step": sum(h["steps"] for h in history)})
         return t

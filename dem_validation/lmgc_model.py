@@ -184,12 +184,10 @@ class RigidScene:
         more than ``collapse_rel`` x the scene size (translation plus rotation x its radius)
         from its start. Stable at the end of the hold, or earlier once the load has been
         held ``t_rest`` s and no block moved faster than ``v_rest`` over the last
-        ``t_rest / 2`` s. A collapse too once held ``t_rest`` s, when a block moved past ``go_rel``
-        of the collapse motion and the fastest block's speed grew over each of the last three
-        quarters of ``t_rest`` (a mechanism speeding up; a transient of the ramp rocks back and
-        forth, and contact chatter stays far below that motion). Returns outcome (stable|collapse), motion (m), steps, time (s),
-        rest (True when it ended at rest), going (True when it ended speeding up) and the free
-        blocks' (u, rotation vector) in scene axes at the end."""
+        ``t_rest / 2`` s (a collapse is told by its motion only: an earlier call on a block
+        speeding up read the 55-voussoir double arch's slow creep as collapses, 0.092 for 0.125). Returns outcome (stable|collapse), motion (m), steps, time (s),
+        rest (True when it ended at rest) and the free blocks' (u, rotation vector) in scene axes
+        at the end."""
         t_load, t_ramp, t_hold = p["t_load"], p["t_ramp"], p["t_hold"]
         sim = self.build(alpha, t_load, t_ramp)
         init = sim.get_initial_state()
@@ -198,8 +196,8 @@ class RigidScene:
         limit = p["collapse_rel"] * self.size()
         n_steps = int(math.ceil((t_load + t_ramp + t_hold) / self.dt))
         rest_from = int(math.ceil((t_load + t_ramp + p["t_rest"]) / self.dt))
-        window = max(1, int(round(0.25 * p["t_rest"] / self.dt)))
-        motion, steps, state, rest, going, marks, speeds = 0.0, 0, None, False, False, {}, []
+        window = max(1, int(round(0.5 * p["t_rest"] / self.dt)))
+        motion, steps, state, rest, marks = 0.0, 0, None, False, {}
         for steps in range(1, n_steps + 1):
             state = sim.compute_one_step()
             moves = self._move_vectors(state, x0, F0)
@@ -210,23 +208,15 @@ class RigidScene:
                 break
             if steps % window == 0:
                 marks[steps] = moves
-                if steps - window in marks:
-                    speeds.append(_fastest(moves - marks[steps - window]) / (window * self.dt))
-                before = marks.pop(steps - 2 * window, None)
-                if steps < rest_from or before is None:
-                    continue
-                if _fastest(moves - before) / (2 * window * self.dt) < p["v_rest"]:
-                    rest = True
-                    break
-                s3 = speeds[-3:]
-                if motion > p["go_rel"] * limit and len(s3) == 3 and p["v_rest"] < s3[0] < s3[1] < s3[2]:
-                    going = True
-                    break
+                before = marks.pop(steps - window, None)
+                if steps >= rest_from and before is not None:
+                    if _fastest(moves - before) / (window * self.dt) < p["v_rest"]:
+                        rest = True
+                        break
         disp = self._displacements(state, x0, F0) if state is not None else {}
         control = self._control(state, x0, F0) if state is not None else 0.0
-        return {"alpha": alpha, "outcome": "collapse" if motion > limit or going else "stable", "motion": motion,
-                "control": control, "steps": steps, "time": steps * self.dt, "rest": rest, "going": going,
-                "displacement": disp}
+        return {"alpha": alpha, "outcome": "collapse" if motion > limit else "stable", "motion": motion,
+                "control": control, "steps": steps, "time": steps * self.dt, "rest": rest, "displacement": disp}
 
     def _control(self, state, x0, F0) -> float:
         """Work conjugate of alpha (m), as the YADE side's: sum_i fL_i . (u_i, rotation_i)

@@ -88,8 +88,9 @@ def test_block_under_its_weight_alone_is_a_dead_load_collapse():
 def test_stable_trials_end_once_at_rest_and_the_answer_stays():
     """A 0.3 x 1 block rocks at alpha = b/h = 0.3 (moment about the toe: alpha W h/2 = W b/2).
     With a 5 s hold, every stable trial ends at rest t_rest after the full load (the blocks
-    do not move once held) and every collapse trial ends long before the hold is over (past
-    the motion limit, or speeding up); every collapse is above 0.3 and every rest at or below it.
+    do not move once held), every collapse trial 0.1 % or more above 0.3 ends long before
+    the hold is over (past the motion limit); every collapse is at or above 0.3 and every
+    rest at or below it.
     The control displacement (live-load work / |live load|) is positive for a collapse (the
     load does work on the mechanism) and micrometres for a trial that held."""
     p = knobs({})
@@ -100,9 +101,10 @@ def test_stable_trials_end_once_at_rest_and_the_answer_stays():
     full = round((p["t_load"] + p["t_ramp"] + 5.0) / p["dt"])
     assert stable and all(h["rest"] and h["steps"] < full / 5 for h in stable)
     assert all(h["alpha"] <= 0.3 * (1 + 1e-12) and abs(h["control"]) < 1e-5 for h in stable)  # 0.3 holds
-    assert collapse and all(h["alpha"] > 0.3 and not h["rest"] and h["steps"] < full / 5 for h in collapse)
+    assert collapse and all(h["alpha"] >= 0.3 * (1 - 1e-12) and not h["rest"] for h in collapse)
+    # one 0.1 % or more above 0.3 is told long before the hold ends (at 0.3 itself, a knife edge, late)
+    assert all(h["steps"] < full / 5 for h in collapse if h["alpha"] > 0.3 * 1.001)
     assert all(h["control"] > 0 for h in collapse)
-    assert any(h["going"] for h in collapse)  # the nearest ones are told by their speeding up
 
 
 def test_per_pair_friction_is_skipped_with_the_reason():
