@@ -10,7 +10,6 @@ failure.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
 from . import params as P
@@ -125,19 +124,7 @@ def cmd_run(args) -> int:
 
 
 def main(argv=None) -> int:
-    from limit.errors import SceneError
+    from limit.errors import run_command
 
     args = _parser().parse_args(argv)
-    try:
-        return cmd_run(args)
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
-    except Exception as exc:  # an internal failure: one line, traceback on request
-        if os.environ.get("DEM_DEBUG"):
-            raise
-        print(f"failed: {type(exc).__name__}: {exc} (set DEM_DEBUG=1 for a traceback)", file=sys.stderr)
-        return 1
+    return run_command(lambda: cmd_run(args), debug_env="DEM_DEBUG")

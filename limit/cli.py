@@ -6,10 +6,9 @@ stderr, no traceback), 1 any other failure, 130 interrupted.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
-from .errors import SceneError
+from .errors import SceneError, run_command
 
 #: the names of limit.lp.SOLVERS (not imported here: cvxpy is slow to import for `info`)
 LP_SOLVERS = ["auto", "ipm", "clarabel", "ecos", "highs", "highs-ipm"]
@@ -109,18 +108,4 @@ def _one_line_warnings() -> None:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     _one_line_warnings()
-    try:
-        return COMMANDS[args.command](args)
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except BrokenPipeError:  # e.g. piped into head
-        return 0
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
-    except Exception as exc:  # an internal failure: one line, traceback on request
-        if os.environ.get("LIMIT_DEBUG"):
-            raise
-        print(f"failed: {type(exc).__name__}: {exc} (set LIMIT_DEBUG=1 for a traceback)", file=sys.stderr)
-        return 1
+    return run_command(lambda: COMMANDS[args.command](args), debug_env="LIMIT_DEBUG")

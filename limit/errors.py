@@ -18,3 +18,34 @@ class SceneWarning(UserWarning):
 
 class SolverError(RuntimeError):
     """A solver run that could not produce a trustworthy answer (exit status 1)."""
+
+
+def run_command(command, debug_env: str = "LIMIT_DEBUG") -> int:
+    """Run ``command()`` (which returns an exit status) and turn an escaping exception into
+    the exit status of docs/formats.md, 'Commands' -- the one mapping of every command line
+    (``limit``, ``python -m dem_validation``, ``python -m reports.vtk``):
+
+    * SceneError: 2, the message as one line ``error: ...`` on stderr;
+    * BrokenPipeError (e.g. piped into ``head``): 0;
+    * KeyboardInterrupt: 130, ``interrupted`` on stderr;
+    * any other Exception: 1, one line ``failed: Type: message`` on stderr, or re-raised
+      (with its traceback) when the environment variable ``debug_env`` is set.
+    """
+    import os
+    import sys
+
+    try:
+        return command()
+    except SceneError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        return 0
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # an internal failure: one line, traceback on request
+        if os.environ.get(debug_env):
+            raise
+        print(f"failed: {type(exc).__name__}: {exc} (set {debug_env}=1 for a traceback)", file=sys.stderr)
+        return 1

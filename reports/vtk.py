@@ -83,25 +83,27 @@ def write_vtk(scene, motions: dict, path) -> Path:
 
 
 def main(argv=None) -> int:
-    from limit.errors import SceneError
-    from limit.scene import load_scene
+    from limit.errors import run_command
 
     ap = argparse.ArgumentParser(prog="python -m reports.vtk", description=__doc__.splitlines()[0])
     ap.add_argument("scene")
     ap.add_argument("results", nargs="*", help="result files (limit solve / dem_validation run --json)")
     ap.add_argument("-o", "--out", required=True)
     args = ap.parse_args(argv)
-    try:
-        scene = load_scene(args.scene)
-        merged = {}
-        for r in args.results:
-            try:
-                merged.update(json.loads(Path(r).read_text()))
-            except (OSError, json.JSONDecodeError) as exc:
-                raise SceneError(f"{r}: not a readable result file ({exc})") from None
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+    return run_command(lambda: _run(args), debug_env="LIMIT_DEBUG")
+
+
+def _run(args) -> int:
+    from limit.errors import SceneError
+    from limit.scene import load_scene
+
+    scene = load_scene(args.scene)
+    merged = {}
+    for r in args.results:
+        try:
+            merged.update(json.loads(Path(r).read_text()))
+        except (OSError, json.JSONDecodeError) as exc:
+            raise SceneError(f"{r}: not a readable result file ({exc})") from None
     p = write_vtk(scene, motions_of(merged), args.out)
     print(f"wrote {p}")
     return 0
