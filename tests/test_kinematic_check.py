@@ -1,0 +1,76 @@
+"""Linear kinematic analysis (limit/kinematic_check.py) against hand computations.
+
+Closed forms, with horizontal virtual displacements dx_i of the weights P_i:
+M* = (sum P_i dx_i)^2 / (g sum P_i dx_i^2), e* = g M* / sum P_i, a0* = alpha0 g / (e* FC).
+
+* One block (mass m) turning about its toe: one weight, so M* = (P dx)^2 / (g P dx^2) = P/g
+  = m and e* = 1, whatever dx; a0* = alpha0 g / FC.
+* Two equal blocks b x h (mass m each) stacked, turning together about the base toe by a
+  small angle w: their centroids, at heights h/2 and 3h/2, move horizontally by w h/2 and
+  3 w h/2. M* = (m g w (h/2 + 3h/2))^2 / (g m g w^2 (h^2/4 + 9h^2/4)) = m 4h^2 / (10 h^2/4)
+  = 1.6 m; e* = g 1.6 m / (2 m g) = 0.8. The LP finds that mechanism: the whole stack
+  overturns at alpha = b / (2h) (moments about the toe: alpha 2W h = 2W b/2), below the top
+  block alone (alpha = b/h).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from limit import analyse, load_scene
+from limit.kinematic_check import linear
+from scenes import builders as B
+
+G = 9.81
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_one_block_has_all_its_mass_participating(dim):
+    scene = load_scene(B.single_block(dim, 0.3, 1.0, mu=0.8))
+    r = analyse(scene, method="lp")
+    assert r.lp.alpha == pytest.approx(0.3, rel=1e-6)
+    q = linear(scene, r.lp.mechanism, r.lp.alpha, fc=1.35)
+    m = scene.blocks[int(scene.free[0])].mass
+    assert q["M_star"] == pytest.approx(m, rel=1e-9)
+    assert q["e_star"] == pytest.approx(1.0, rel=1e-9)
+    assert q["a0_star"] == pytest.approx(0.3 * G / 1.35, rel=1e-6)
+    assert q["a0_star_g"] == pytest.approx(0.3 / 1.35, rel=1e-6)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_two_stacked_blocks_turning_together(dim):
+    b, h = 0.3, 0.5
+    scene = load_scene(B.stack(2, dim, b=b, h=h, mu=0.8))
+    r = analyse(scene, method="lp")
+    assert r.lp.alpha == pytest.approx(b / (2 * h), rel=1e-6)
+    q = linear(scene, r.lp.mechanism, r.lp.alpha, fc=1.0)
+    m = scene.blocks[int(scene.free[0])].mass
+    assert q["M_star"] == pytest.approx(1.6 * m, rel=1e-6)
+    assert q["e_star"] == pytest.approx(0.8, rel=1e-6)
+    assert q["a0_star"] == pytest.approx(b / (2 * h) * G / 0.8, rel=1e-6)
+    assert q["n_weights"] == 2
+
+
+def test_a_hand_mechanism_only_moving_weights_count():
+    """Top block of two turning alone about the joint's toe (b/2, h): one weight moves, so
+    M* = m and e* = 1 (the still block's weight is not part of the chain)."""
+    b, h = 0.3, 0.5
+    scene = load_scene(B.stack(2, 2, b=b, h=h, mu=0.8))
+    top = scene.blocks[int(scene.free[1])]
+    w = -1.0  # clockwise about the toe: centroid velocity w x (c - toe)
+    r = top.centroid - np.array([b, h])  # builder blocks span x in [0, b]
+    mech = {scene.blocks[int(scene.free[0])].id: [0.0, 0.0, 0.0],
+            top.id: [-w * r[1], w * r[0], w]}
+    q = linear(scene, mech, 0.6)
+    assert q["M_star"] == pytest.approx(top.mass) and q["e_star"] == pytest.approx(1.0) and q["n_weights"] == 1
+
+
+def test_bad_inputs_are_named():
+    scene = load_scene(B.single_block(2))
+    with pytest.raises(ValueError, match="confidence factor"):
+        linear(scene, {"block": [1.0, 0.0, 0.0]}, 0.3, fc=0.5)
+    with pytest.raises(ValueError, match="moves no weight"):
+        linear(scene, {"block": [0.0, 0.0, 0.0]}, 0.3)
+    with pytest.raises(ValueError, match="only vertically"):
+        linear(scene, {"block": [0.0, 1.0, 0.0]}, 0.3)
+    assert math.isfinite(linear(scene, {"block": [1.0, 0.0, 0.0]}, 0.3)["M_star"])
