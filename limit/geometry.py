@@ -134,10 +134,8 @@ def _polygon_from_ccw(verts: np.ndarray) -> Polytope:
     verts, nxt, edge, lengths = verts[keep], nxt[keep], edge[keep], lengths[keep]
     normals = np.column_stack([edge[:, 1], -edge[:, 0]]) / lengths[:, None]
     offsets = np.einsum("ij,ij->i", normals, verts)
-    p, q = verts - o, nxt - o
-    cross = p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]
-    area = 0.5 * cross.sum()
-    centroid = o + ((p + q) * cross[:, None]).sum(axis=0) / (6.0 * area)
+    area, centroid = polygon_area_centroid(verts - o)
+    centroid = o + centroid
     faces = [np.array([a, b]) for a, b in zip(verts, nxt)]
     return Polytope(verts, normals, offsets, faces, float(area), centroid)
 
@@ -216,13 +214,34 @@ def _reject_interior_points(pts: np.ndarray, equations: np.ndarray, tol: float, 
 
 
 def plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors (e1, e2) with e1 x e2 = n, for a unit normal n (3,)."""
+    """Two unit vectors (e1, e2) with e1 x e2 = n, for a unit normal n (3,) or unit
+    normals n (m, 3) (then e1, e2 are (m, 3))."""
     n = np.asarray(n, dtype=float)
-    a = np.eye(3)[int(np.argmin(np.abs(n)))]
+    a = np.eye(3)[np.argmin(np.abs(n), axis=-1)]
     e1 = np.cross(a, n)
-    e1 /= np.linalg.norm(e1)
+    if e1.ndim == 1:
+        e1 /= np.linalg.norm(e1)
+    else:
+        e1 /= np.linalg.norm(e1, axis=-1)[..., None]
     e2 = np.cross(n, e1)
     return e1, e2
+
+
+def polygon_area_centroid(P) -> tuple:
+    """Signed area and centroid of polygons by the shoelace formula.
+
+    ``P`` (k, 2), or a stack (..., k, 2) of polygons with the same vertex count; the
+    area is positive for counter-clockwise vertices. Returns (area, centroid): a float
+    and a (2,) array, or arrays (...,) and (..., 2). Far from (0, 0), pass coordinates
+    relative to a nearby point (e.g. the vertex mean) and add it back to the centroid.
+    """
+    P = np.asarray(P, dtype=float)
+    x, y = P[..., 0], P[..., 1]
+    xn, yn = np.roll(x, -1, axis=-1), np.roll(y, -1, axis=-1)
+    cr = x * yn - xn * y  # twice the signed area of the triangle (0, p_i, p_i+1)
+    a = 0.5 * cr.sum(axis=-1)
+    c = np.stack([((x + xn) * cr).sum(axis=-1), ((y + yn) * cr).sum(axis=-1)], axis=-1) / (6 * np.asarray(a)[..., None])
+    return (float(a), c) if P.ndim == 2 else (a, c)
 
 
 def polytope(points, dim: int, tol: float | None = None) -> Polytope:

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from . import broadphase, clip, facetable
+from .geometry import plane_basis, polygon_area_centroid
 
 #: Faces count as anti-parallel when n_a . n_b < -(1 - ANGLE_TOL).
 ANGLE_TOL = 1e-6
@@ -147,11 +148,7 @@ def _contacts_2d(ft, fa, fb, tol, thickness):
 def _contacts_3d(ft, fa, fb, tol):
     n = ft.normal[fa]
     m = len(fa)
-    # In-plane basis e1, e2 (e1 x e2 = n), vectorised plane_basis.
-    ax = np.eye(3)[np.argmin(np.abs(n), axis=1)]
-    e1 = np.cross(ax, n)
-    e1 /= np.linalg.norm(e1, axis=1)[:, None]
-    e2 = np.cross(n, e1)
+    e1, e2 = plane_basis(n)  # in-plane basis, e1 x e2 = n
     # Local origin on the contact plane (midway between the two face planes), near the
     # face: small in-plane coordinates keep the polygon arithmetic accurate.
     o = ft.point[fa] + 0.5 * n * np.einsum("ij,ij->i", n, ft.point[fb] - ft.point[fa])[:, None]
@@ -174,8 +171,7 @@ def _contacts_3d(ft, fa, fb, tol):
     diam = np.ones(m)
     for r in np.flatnonzero(nv >= 3):
         p = polys[r]
-        q = np.roll(p, -1, axis=0)
-        area[r] = 0.5 * np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1])
+        area[r] = polygon_area_centroid(p)[0]
         diam[r] = np.linalg.norm(np.ptp(p, axis=0))
     # Positive area and a width (area / diameter) above the tolerance.
     ok = (nv >= 3) & (area / diam > tol)
@@ -199,13 +195,10 @@ def _contacts_3d(ft, fa, fb, tol):
     for k in np.unique(nk):
         rows = np.flatnonzero(nk == k)
         P = coords[starts[rows][:, None] + np.arange(k)]  # (r, k, 2)
-        Pn = np.roll(P, -1, axis=1)
-        cr = P[..., 0] * Pn[..., 1] - Pn[..., 0] * P[..., 1]
-        flip = cr.sum(axis=1) < 0  # make every polygon counter-clockwise about n
+        flip = polygon_area_centroid(P)[0] < 0  # make every polygon counter-clockwise about n
         P[flip] = P[flip, ::-1]
-        Pn = np.roll(P, -1, axis=1)
-        cr = P[..., 0] * Pn[..., 1] - Pn[..., 0] * P[..., 1]
-        a, cen, I = _moments(P, Pn, cr)
+        a, cen = polygon_area_centroid(P)
+        I = _second_moments(P, a, cen)
         rel = P - cen[:, None, :]
         rect, u_rect, box_c, half = _rectangle_fit(rel, a, tol)
         u = np.where(rect[:, None], u_rect, _principal_direction(I))
@@ -233,19 +226,17 @@ def _contacts_3d(ft, fa, fb, tol):
     return ok_full, fields
 
 
-def _moments(P, Pn, cr):
-    """Area (r,), centroid (r, 2) and central second-moment tensor int(x x^T)dA (r, 2, 2)
-    of counter-clockwise polygons P (r, k, 2); Pn is P rolled by one vertex, cr the
-    edge cross products."""
+def _second_moments(P, a, cen):
+    """Central second-moment tensor int(x x^T)dA (r, 2, 2) of counter-clockwise polygons
+    P (r, k, 2) with areas a (r,) and centroids cen (r, 2) (polygon_area_centroid)."""
+    Pn = np.roll(P, -1, axis=1)
     x, y, xn, yn = P[..., 0], P[..., 1], Pn[..., 0], Pn[..., 1]
-    a = 0.5 * cr.sum(axis=1)
-    cx = ((x + xn) * cr).sum(axis=1) / (6 * a)
-    cy = ((y + yn) * cr).sum(axis=1) / (6 * a)
+    cr = x * yn - xn * y
+    cx, cy = cen[:, 0], cen[:, 1]
     ixx = ((x * x + x * xn + xn * xn) * cr).sum(axis=1) / 12 - a * cx * cx
     iyy = ((y * y + y * yn + yn * yn) * cr).sum(axis=1) / 12 - a * cy * cy
     ixy = ((x * yn + 2 * x * y + 2 * xn * yn + xn * y) * cr).sum(axis=1) / 24 - a * cx * cy
-    I = np.stack([np.stack([ixx, ixy], -1), np.stack([ixy, iyy], -1)], -2)
-    return a, np.column_stack([cx, cy]), I
+    return np.stack([np.stack([ixx, ixy], -1), np.stack([ixy, iyy], -1)], -2)
 
 
 def _principal_direction(I):

@@ -17,6 +17,8 @@ import itertools
 
 import numpy as np
 
+from limit.geometry import polygon_area_centroid
+
 
 def _rot(w, r):
     """Velocity of lever arm(s) r under a rotation w about z (2D)."""
@@ -119,10 +121,7 @@ def arch_reference(n, R, t, span_deg=180.0, live_dir=(1.0, 0.0)) -> float:
     cents, weights = [], []
     for k in range(n):
         quad = np.array([joints[k, 0], joints[k, 1], joints[k + 1, 1], joints[k + 1, 0]])
-        x, y = quad[:, 0], quad[:, 1]
-        xn, yn = np.roll(x, -1), np.roll(y, -1)
-        cr = x * yn - xn * y
-        A = cr.sum() / 2
-        cents.append([((x + xn) * cr).sum() / (6 * A), ((y + yn) * cr).sum() / (6 * A)])
+        A, c = polygon_area_centroid(quad)
+        cents.append(c)
         weights.append(abs(A))
     return arch_hinge_alpha(joints, np.array(cents), np.array(weights), live_dir)["alpha"]

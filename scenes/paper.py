@@ -20,6 +20,8 @@ import math
 
 import numpy as np
 
+from limit.geometry import polygon_area_centroid
+
 from . import builders as B
 
 PAPER = ("Baggio & Trovalusci, Collapse behaviour of three-dimensional brick-block systems "
@@ -358,9 +360,4 @@ def _ccw(v):
 
 
 def _centroid2(v):
-    v = _ccw(v)
-    x, y = v[:, 0], v[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    cr = x * yn - xn * y
-    a = cr.sum() / 2
-    return np.array([((x + xn) * cr).sum() / (6 * a), ((y + yn) * cr).sum() / (6 * a)])
+    return polygon_area_centroid(_ccw(v))[1]

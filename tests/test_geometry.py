@@ -83,3 +83,29 @@ def test_per_block_density():
     s = load_scene(d)
     assert s.blocks[2].mass == pytest.approx(500 * 0.3 * 0.3 * 0.5)
     assert s.blocks[1].mass == pytest.approx(2000 * 0.3 * 0.3 * 0.5)
+
+
+def test_polygon_area_centroid_one_and_stacked():
+    from limit.geometry import polygon_area_centroid
+
+    sq = np.array([[1.0, 2.0], [3.0, 2.0], [3.0, 3.0], [1.0, 3.0]])  # CCW 2 x 1 rectangle
+    a, c = polygon_area_centroid(sq)
+    assert isinstance(a, float) and a == 2.0 and np.allclose(c, [2.0, 2.5])
+    assert polygon_area_centroid(sq[::-1])[0] == -2.0  # clockwise: negative
+    tri = np.array([[0.0, 0.0], [3.0, 0.0], [0.0, 3.0], [0.0, 3.0]])  # a repeated vertex adds nothing
+    A, C = polygon_area_centroid(np.stack([sq, tri]))
+    assert A.shape == (2,) and C.shape == (2, 2)
+    assert np.allclose(A, [2.0, 4.5]) and np.allclose(C, [[2.0, 2.5], [1.0, 1.0]])
+
+
+def test_plane_basis_one_and_stacked():
+    from limit.geometry import plane_basis
+
+    rng = np.random.default_rng(3)
+    n = rng.normal(size=(20, 3))
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    E1, E2 = plane_basis(n)
+    for k in range(len(n)):
+        e1, e2 = plane_basis(n[k])
+        assert np.allclose(e1, E1[k], rtol=0, atol=1e-15) and np.allclose(e2, E2[k], rtol=0, atol=1e-15)
+        assert np.allclose(np.cross(e1, e2), n[k]) and abs(e1 @ n[k]) < 1e-15 and np.isclose(e1 @ e1, 1.0)
