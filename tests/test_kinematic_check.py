@@ -74,3 +74,52 @@ def test_bad_inputs_are_named():
     with pytest.raises(ValueError, match="only vertically"):
         linear(scene, {"block": [0.0, 1.0, 0.0]}, 0.3)
     assert math.isfinite(linear(scene, {"block": [1.0, 0.0, 0.0]}, 0.3)["M_star"])
+
+
+# ------------------------------------------------------------------ nonlinear (capacity curve)
+
+def test_block_turning_about_its_toe_follows_tan_closed_form():
+    """A block b x h turned by theta about its toe: its centroid's lever about the toe is
+    (h/2) sin(phi0 - theta) horizontally and (h/2)... so alpha W (vertical lever) = W
+    (horizontal lever) gives alpha(theta) = tan(atan(b/h) - theta), zero at theta0 =
+    atan(b/h), where the centroid has moved b/2 sideways (d0 = b/2)."""
+    from limit.capacity_curve import follow
+
+    b, h = 0.3, 1.0
+    scene = load_scene(B.single_block(2, b, h, mu=0.8))
+    r = analyse(scene, method="lp")
+    out = follow(scene, r.lp.mechanism, r.lp.alpha, steps=300)
+    th = -np.array(out["rotation"])  # clockwise
+    a = np.array(out["alpha"])
+    pos = a > 0
+    assert np.max(np.abs(a[pos] - np.tan(math.atan(b / h) - th[pos]))) < 1e-6
+    assert out["d0"] == pytest.approx(b / 2, rel=1e-6)
+    sp = out["spectral"]  # one block: e* = 1, d* = d
+    assert sp["e_star"] == pytest.approx(1.0) and sp["d0_star"] == pytest.approx(b / 2, rel=1e-6)
+    assert sp["du_star"] == pytest.approx(0.4 * b / 2, rel=1e-6)
+
+
+def test_two_blocks_turning_together_about_the_base_toe():
+    """Two stacked blocks b x h as one body of height H = 2h: alpha(theta) = tan(atan(b/H)
+    - theta); the control point (top centroid, at (-b/2, 3h/2) from the toe) has moved
+    b/2 (1 - cos theta0) + (3h/2) sin theta0 sideways when alpha reaches 0."""
+    from limit.capacity_curve import follow
+
+    b, h = 0.3, 0.5
+    scene = load_scene(B.stack(2, 2, b=b, h=h, mu=0.8))
+    r = analyse(scene, method="lp")
+    out = follow(scene, r.lp.mechanism, r.lp.alpha, steps=300)
+    th, a = -np.array(out["rotation"]), np.array(out["alpha"])
+    pos = a > 0
+    assert np.max(np.abs(a[pos] - np.tan(math.atan(b / (2 * h)) - th[pos]))) < 1e-6
+    t0 = math.atan(b / (2 * h))
+    assert out["d0"] == pytest.approx(b / 2 * (1 - math.cos(t0)) + 1.5 * h * math.sin(t0), rel=1e-6)
+
+
+def test_a_sliding_mechanism_is_refused_naming_the_joint():
+    from limit.capacity_curve import follow
+
+    scene = load_scene(B.single_block(2, 1.0, 0.5, mu=0.4))
+    r = analyse(scene, method="lp")
+    with pytest.raises(ValueError, match="base\\|block slides"):
+        follow(scene, r.lp.mechanism, r.lp.alpha)
