@@ -6,8 +6,9 @@ The mechanism's joints are read from its velocities (:func:`joints`): at each in
 end point, contact is kept (no normal relative velocity there; an associative LP's
 dilatancy is dropped, sliding is Coulomb's) unless it opens beyond the dilatancy; where
 the joint does not slip, no tangential relative velocity either. So a hinge gives two
-equations, a sliding joint two, a joint that slides and turns about one corner one, a
-joint that does nothing three, an open one none. Those points and directions are carried
+equations, a joint that does nothing three, an open one none (a sliding joint would give
+two, one when it also turns about a corner; sliding mechanisms are refused for now, the
+follower being checked on rocking mechanisms only). Those points and directions are carried
 with the blocks (a hinge's point with block a; a sliding corner with its own block), and
 at each configuration the velocities are the null space of the joint equations (the one
 closest to the previous velocities when several remain). The multiplier is the ratio of
