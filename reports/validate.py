@@ -35,9 +35,13 @@ def plan(files, stages, cache: Cache, fresh: bool, lmgc_all: bool = False):
         name = data.get("name", Path(path).stem)
         for stage in stages:
             opts_fn, _ = STAGES[stage]
-            opts = opts_fn(data, max_free=None) if stage == "lmgc" and lmgc_all else opts_fn(data)
+            opts = opts_fn(data, budget_s=None) if stage == "lmgc" and lmgc_all else opts_fn(data)
             k = key(stage, data, opts)
             hit = None if fresh else cache.get(stage, name, k)
+            if hit is None and stage == "lmgc" and not opts["run"] and not fresh:
+                full = opts_fn(data, budget_s=None)  # left out for its cost: a result of --lmgc-all is shown
+                if full["run"]:
+                    hit = cache.get(stage, name, key(stage, data, full))
             if hit is not None:
                 done[(name, stage)] = hit
             else:
@@ -146,7 +150,8 @@ def main(argv=None) -> int:
     ap.add_argument("--no-dem", action="store_true", help="skip the DEM stages (YADE and LMGC90)")
     ap.add_argument("--no-lmgc", action="store_true", help="skip the LMGC90 stage (rigid contacts)")
     ap.add_argument("--lmgc-all", action="store_true",
-                    help="run LMGC90 on every scene (default: up to reports.stages.LMGC_MAX_FREE free blocks)")
+                    help="run LMGC90 on every scene (default: those whose measured cost meta.lmgc.cost_s is at "
+                         "most reports.stages.LMGC_BUDGET_S)")
     ap.add_argument("--fresh", action="store_true", help="ignore cached results")
     ap.add_argument("--no-progress", action="store_true")
     args = ap.parse_args(argv)

@@ -16,6 +16,13 @@ from .closed_forms import arch_reference
 
 CATALOG_DIR = Path(__file__).resolve().parent / "catalog"
 
+#: measured LMGC90 cost (s, one run of reports.stages.run_lmgc on this project's 2-core machine
+#: with the other core busy, 2026-11-26) of the scenes above reports.stages.LMGC_BUDGET_S: the
+#: default validation leaves them to ``--lmgc-all`` and ``make bench`` (meta.lmgc.cost_s)
+LMGC_COST_S = {"paper-fig3-opus-poligonale-70-2d": 343.0, "paper-fig3-opus-poligonale-40-2d": 105.0,
+               "paper-fig2b-double-arch-2d": 93.0, "ferris-tinloi-wall-2d": 69.0,
+               "paper-fig4-opus-africanum-2d": 63.0}
+
 
 def entries() -> dict:
     """name -> scene dict, in report order."""
@@ -100,6 +107,8 @@ def entries() -> dict:
     add(B.corner_walls(courses=4, len_a=4, len_b=3, name="corner-walls-3d"))
     for d in paper_entries() + benchmark_entries():
         add(d)
+    for name, cost in LMGC_COST_S.items():
+        out[name].setdefault("meta", {}).setdefault("lmgc", {})["cost_s"] = cost
     return out
 
 

@@ -2,7 +2,7 @@
 forms, its search without LMGC90, and every fault reported as failed.
 
 LMGC90 is installed by ``make test`` (scripts/bootstrap.sh, pinned in
-pyproject.toml); these tests never skip. Closed forms (rigid blocks, a horizontal
+constraints.txt); these tests never skip. Closed forms (rigid blocks, a horizontal
 body force alpha x weight, friction mu), as in tests/test_dem_yade.py:
   * one block b x h rocks at alpha = b / h when mu > b / h, and slides at
     alpha = mu when mu < b / h;
@@ -27,7 +27,7 @@ RTOL = 0.01
 def _alpha(scene, **kn):
     dem = run_scene(scene, engine="lmgc90", timeout_s=600, **kn)
     assert dem["status"] == "collapsed", dem.get("reason")
-    assert dem["engine"] == "lmgc90" and dem["alpha_uncertainty"] <= 1e-3 * dem["alpha"]
+    assert dem["engine"] == "lmgc90" and dem["alpha_uncertainty"] <= 0.5 * knobs({})["alpha_rtol"] * dem["runs"][0]["alpha_hi"]
     return dem
 
 

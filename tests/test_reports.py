@@ -293,15 +293,29 @@ def test_engines_table_shows_numbers_and_statuses():
     assert "| infeasible |" in lines[3] and "dead-load collapse" in lines[3] and lines[3].count("skipped") == 1
 
 
-def test_lmgc_stage_size_limit_and_its_lifting():
-    """Above LMGC_MAX_FREE free blocks the default validation skips LMGC90 with the reason;
-    --lmgc-all (max_free None) runs it."""
-    from reports.stages import LMGC_MAX_FREE, lmgc_options, run_lmgc
+def test_lmgc_stage_cost_limit_and_its_lifting(tmp_path):
+    """A scene whose measured LMGC90 cost (meta.lmgc.cost_s) exceeds LMGC_BUDGET_S is
+    skipped by the default validation with the reason; --lmgc-all (budget None) runs it, and
+    a default plan shows a cached --lmgc-all result instead of the skip."""
+    from reports.cache import Cache, key
+    from reports.stages import LMGC_BUDGET_S, lmgc_options, run_lmgc
+    from reports.validate import plan
 
-    data = {"blocks": [{"fixed": True}] + [{} for _ in range(LMGC_MAX_FREE + 1)]}
+    data = {"name": "costly", "blocks": [{"fixed": True}, {}], "meta": {"lmgc": {"cost_s": LMGC_BUDGET_S + 1}}}
     opts = lmgc_options(data)
-    assert not opts["run"] and f"{LMGC_MAX_FREE + 1} free blocks" in opts["reason"] and "--lmgc-all" in opts["reason"]
+    assert not opts["run"] and f"{LMGC_BUDGET_S + 1:.0f} s" in opts["reason"] and "--lmgc-all" in opts["reason"]
     res = run_lmgc("unused.json", opts)
     assert res["status"] == "skipped" and res["reason"] == opts["reason"]
-    assert lmgc_options(data, max_free=None)["run"]
-    assert lmgc_options({"blocks": [{"fixed": True}, {}]})["run"]
+    assert lmgc_options(data, budget_s=None)["run"]
+    assert lmgc_options({"blocks": [{"fixed": True}, {}]})["run"]  # no measured cost: runs
+    cheap = {**data, "meta": {"lmgc": {"cost_s": LMGC_BUDGET_S}}}
+    assert lmgc_options(cheap)["run"]
+    f = tmp_path / "costly.json"
+    f.write_text(json.dumps(data))
+    cache = Cache(tmp_path / "cache")
+    done, todo = plan([f], ["lmgc"], cache, fresh=False)
+    assert not done and todo[0][4]["run"] is False
+    full = lmgc_options(data, budget_s=None)
+    cache.put("lmgc", "costly", key("lmgc", data, full), {"status": "collapsed", "alpha": 0.5, "engine": "lmgc90"})
+    done, todo = plan([f], ["lmgc"], cache, fresh=False)
+    assert not todo and done[("costly", "lmgc")]["alpha"] == 0.5
