@@ -319,3 +319,19 @@ def test_lmgc_stage_cost_limit_and_its_lifting(tmp_path):
     cache.put("lmgc", "costly", key("lmgc", data, full), {"status": "collapsed", "alpha": 0.5, "engine": "lmgc90"})
     done, todo = plan([f], ["lmgc"], cache, fresh=False)
     assert not todo and done[("costly", "lmgc")]["alpha"] == 0.5
+
+
+def test_lmgc_disagreement_names_the_known_causes():
+    """Over 2 % from the frictional LA, the report says why: between NLP and LP (rigid
+    contacts keep friction engaged), below it with a creeping dead-load trial (time-step
+    dependent, not a check), and whether YADE departs the same way."""
+    from reports.render import lmgc_lines
+
+    base = {"lmgc_status": "collapsed", "lp_alpha": 1.0, "fric_alpha": 0.357, "dem_alpha": 0.38, "mech_kind": "nlp"}
+    between = lmgc_lines({**base, "lmgc_alpha": 0.383, "lmgc_vs_la": 0.383 / 0.357 - 1})
+    assert len(between) == 2 and "not unique" in between[1] and "YADE agrees" in between[1]
+    creep = lmgc_lines({**base, "lp_alpha": 0.176, "fric_alpha": 0.161, "dem_alpha": 0.164, "lmgc_alpha": 0.125,
+                        "lmgc_vs_la": 0.125 / 0.161 - 1, "lmgc_creep": True})
+    assert "creep" in creep[1] and "not a check" in creep[1] and "YADE agrees" not in creep[1]
+    close = lmgc_lines({**base, "lmgc_alpha": 0.36, "lmgc_vs_la": 0.36 / 0.357 - 1})
+    assert len(close) == 1  # within 2 %: no explanation needed
