@@ -1,0 +1,104 @@
+"""The worst horizontal direction of the live load of a 3D scene: alpha(theta) from the
+associative LP over a sweep of directions, and the frictional step 2 at the minimum.
+
+theta (degrees) is measured in the horizontal plane (normal to gravity) from the scene's
+own live direction, counter-clockwise seen from above; the live load must be body forces
+(each one's direction is turned about the vertical by theta, keeping its vertical part).
+The directions run in parallel processes (``jobs``). With ``mirror`` (the scene is mirror-
+symmetric about the vertical plane containing its live direction), alpha(-theta) =
+alpha(theta): only 0..180 degrees are solved and the rest is mirrored.
+"""
+from __future__ import annotations
+
+import copy
+import math
+import os
+import time
+
+import numpy as np
+
+
+def _turn(data: dict, theta_deg: float) -> dict:
+    """The scene dict with every live body force turned by theta about the vertical."""
+    g = np.asarray(data.get("gravity", [0.0, 0.0, -9.81]), dtype=float)
+    up = -g / np.linalg.norm(g)
+    out = copy.deepcopy(data)
+    t = math.radians(theta_deg)
+    for k, ld in enumerate(out["loads"]["live"]):
+        if ld.get("type") != "body_force":
+            raise ValueError(f"loads.live[{k}]: the direction sweep turns body forces only, not {ld.get('type')!r}")
+        d = np.asarray(ld["direction"], dtype=float)
+        v = (d @ up) * up
+        h = d - v  # Rodrigues about the vertical: h cos t + (up x h) sin t
+        ld["direction"] = (v + h * math.cos(t) + np.cross(up, h) * math.sin(t)).tolist()
+    out["name"] = f"{data.get('name', 'scene')}@{theta_deg:g}deg"
+    return out
+
+
+def _lp_alpha(args) -> tuple[float, str, float | None, float]:
+    from .analysis import analyse
+    from .scene import load_scene
+
+    data, theta = args
+    t0 = time.perf_counter()
+    res = analyse(load_scene(_turn(data, theta)), method="lp")
+    lp = res.get("lp") or {}
+    return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0
+
+
+def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool = False, jobs: int | None = None,
+          frictional: bool = True, progress=None) -> dict:
+    """alpha(theta) of the scene dict ``data`` (3D) every ``step_deg`` over 360 degrees;
+    returns {"theta" (deg), "alpha" (LP, NaN where not optimal), "status", "min_theta",
+    "min_alpha" (LP), "min_nlp" (the analysis at the minimum, step 2 where it applies, or
+    None), "time_s", "lp_time_s" (summed over directions), "jobs"}. ``progress(done, total)``
+    is called as directions finish."""
+    if data.get("dim") != 3:
+        raise ValueError("dim: the direction sweep is for 3D scenes (a 2D scene's load direction is +/- x)")
+    if not (0 < step_deg <= 180):
+        raise ValueError(f"step_deg must be in (0, 180], got {step_deg!r}")
+    t0 = time.perf_counter()
+    n = int(round(360.0 / step_deg))
+    thetas = np.arange(n) * (360.0 / n)
+    todo = [t for t in thetas if t <= 180.0 + 1e-9] if mirror else list(thetas)
+    jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo)))
+    got = {}
+    if jobs > 1:
+        import multiprocessing as mp
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context("fork")) as ex:
+            futs = [ex.submit(_lp_alpha, (data, float(t))) for t in todo]
+            for f in as_completed(futs):
+                th, st, a, dt = f.result()
+                got[th] = (st, a, dt)
+                if progress:
+                    progress(len(got), len(todo))
+    else:
+        for t in todo:
+            th, st, a, dt = _lp_alpha((data, float(t)))
+            got[th] = (st, a, dt)
+            if progress:
+                progress(len(got), len(todo))
+    status, alpha = [], []
+    for t in thetas:
+        src = t if t in got else (360.0 - t) % 360.0  # mirrored
+        st, a, _ = got[src]
+        status.append(st)
+        alpha.append(a if st == "optimal" and a is not None else float("nan"))
+    alpha = np.array(alpha, dtype=float)
+    if not np.isfinite(alpha).any():
+        return {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": None,
+                "min_alpha": None, "min_nlp": None, "time_s": time.perf_counter() - t0,
+                "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs}
+    k = int(np.nanargmin(alpha))
+    at_min = None
+    if frictional:
+        from .analysis import analyse, public
+        from .scene import load_scene
+
+        r = public(analyse(load_scene(_turn(data, float(thetas[k]))), method="auto"))
+        at_min = {"lp": r.get("lp"), "nlp": r.get("nlp")}
+    return {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": float(thetas[k]),
+            "min_alpha": float(alpha[k]), "min_nlp": at_min, "time_s": time.perf_counter() - t0,
+            "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs}

@@ -1,0 +1,45 @@
+"""The worst load direction of a 3D scene (limit/direction_sweep.py).
+
+Closed form: a square block b x b x h (friction high enough that it rocks) loaded by a
+horizontal body force alpha W along d = (cos theta, sin theta, 0). Turning about the base
+edge x = b/2 (axis y) by w, its centroid moves (h/2, 0, b/2) w: live power alpha W (h/2)
+cos(theta) w, dead power -W (b/2) w, so alpha = (b/h) / cos(theta); about the edge y = b/2,
+(b/h) / sin(theta); about a corner, with an axis of horizontal normal (cos phi, sin phi),
+(b/h) (cos phi + sin phi) / cos(theta - phi) >= the better edge. Hence
+alpha(theta) = (b/h) / max(|cos theta|, |sin theta|): b/h along the axes, sqrt(2) b/h on
+the diagonals.
+"""
+import math
+
+import numpy as np
+import pytest
+
+from limit.direction_sweep import sweep
+from scenes import builders as B
+
+
+def test_square_block_follows_the_closed_form_and_mirror_halves_the_work():
+    b, h = 0.3, 1.0
+    data = B.single_block(3, b, h, t=b, mu=0.8)
+    out = sweep(data, 15.0, jobs=2, frictional=False)
+    th = np.radians(out["theta"])
+    want = (b / h) / np.maximum(np.abs(np.cos(th)), np.abs(np.sin(th)))
+    assert len(th) == 24 and np.max(np.abs(np.array(out["alpha"]) - want)) < 1e-6
+    assert out["min_alpha"] == pytest.approx(b / h, rel=1e-6) and out["min_theta"] % 90 == 0
+    half = sweep(data, 15.0, jobs=1, mirror=True, frictional=False)
+    assert np.allclose(half["alpha"], out["alpha"], rtol=1e-7)
+
+
+def test_step_2_runs_at_the_minimum_and_inputs_are_checked():
+    data = B.single_block(3, 0.3, 1.0, t=0.3, mu=0.8)
+    out = sweep(data, 90.0, jobs=1)
+    assert out["min_nlp"]["lp"]["alpha"] == pytest.approx(0.3, rel=1e-6)
+    with pytest.raises(ValueError, match="3D"):
+        sweep(B.single_block(2), 5.0)
+    with pytest.raises(ValueError, match="step_deg"):
+        sweep(data, 0.0)
+    bad = dict(data, loads={"dead": data["loads"]["dead"],
+                            "live": [{"type": "point_force", "block": "block", "force": [1.0, 0, 0]}]})
+    with pytest.raises(ValueError, match=r"loads.live\[0\]"):
+        sweep(bad, 90.0, jobs=1)
+    assert math.isfinite(out["time_s"])
