@@ -12,6 +12,8 @@
   the control displacement (the live load's work-conjugate displacement), one
   line per YADE contact stiffness and one for LMGC90's trials, beside the limit
   analysis's alpha.
+* :func:`direction_polar`: alpha against the live load's horizontal direction (3D),
+  with its minimum marked.
 """
 from __future__ import annotations
 
@@ -277,3 +279,28 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
     fig.savefig(path, dpi=100)
     plt.close(fig)
     return True
+
+
+def direction_polar(out: dict, path, title="") -> None:
+    """Polar plot of alpha(theta) from :func:`limit.direction_sweep.sweep` (theta from the
+    scene's own live direction, counter-clockwise seen from above), the minimum marked."""
+    th = np.radians(np.asarray(out["theta"], dtype=float))
+    a = np.asarray(out["alpha"], dtype=float)
+    fig = plt.figure(figsize=(4.8, 4.8))
+    ax = fig.add_subplot(projection="polar")
+    ok = np.isfinite(a)
+    ax.plot(np.append(th[ok], th[ok][:1]), np.append(a[ok], a[ok][:1]), "o-", ms=3, lw=1.2, color=COLORS["lp"],
+            label="LP alpha")
+    if out.get("min_theta") is not None:
+        ax.plot([np.radians(out["min_theta"])], [out["min_alpha"]], "*", ms=14, color="crimson",
+                label=f"minimum {out['min_alpha']:.4g} at {out['min_theta']:g} deg")
+        nlp = ((out.get("min_nlp") or {}).get("nlp") or {})
+        if nlp.get("status") == "optimal" and nlp.get("alpha") is not None:
+            ax.plot([np.radians(out["min_theta"])], [nlp["alpha"]], "D", ms=7, color=COLORS["nlp"],
+                    label=f"frictional there {nlp['alpha']:.4g}")
+    ax.set_rlim(0, 1.05 * float(np.nanmax(a)) if ok.any() else 1.0)
+    ax.set_title(("worst load direction" + (f": {title}" if title else "")), fontsize=9)
+    ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.1, -0.12))
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
