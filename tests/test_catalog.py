@@ -12,6 +12,7 @@ FILES = catalog_files()
 WITH_REF = [p for p in FILES if json.loads(p.read_text()).get("expected")]
 
 
+@pytest.mark.slow  # about 50 s: the builders recompute the four-hinge reference of the 27-voussoir arch
 def test_catalog_json_matches_builders():
     assert catalog_main(["--check"]) == 0
 

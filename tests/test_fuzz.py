@@ -54,6 +54,7 @@ def _mutate(data, rng):
     return d
 
 
+@pytest.mark.slow  # about 9 s: analyses every mutant that loads
 def test_catalog_mutants_are_rejected_or_analysed():
     rng = random.Random(SEED)
     scenes = [json.loads(p.read_text()) for p in SMALL]

@@ -45,6 +45,7 @@ def test_rocking_and_sliding_combined(dim):
     assert res["iterative_lp"]["alpha"] == pytest.approx(a, rel=1e-4)
 
 
+@pytest.mark.slow  # about 9 s: step 2 and the MILP on the 3 x 3 wall
 def test_wall_that_opens_while_it_slides():
     """3 x 3 running-bond wall, mu = 1.2: the LP's dilatant mechanism gives 1.0; the end blocks can
     instead rock about a toe while the joints above open and slide (DEM probe: 0.357)."""
@@ -117,6 +118,7 @@ def test_failed_check_gives_failed_status(monkeypatch):
     assert "equilibrium" in res["reason"]
 
 
+@pytest.mark.slow  # about 90 s: four plain SQP runs from arbitrary starts and the MILP
 def test_lp_start_beats_arbitrary_start():
     """The paper's Fig. 4 lesson: plain SQP from an arbitrary start ends at poor points or fails;
     from the LP start it reaches the global minimum (checked by the MILP)."""
