@@ -3,8 +3,8 @@
 A stage result (``la``: limit analysis, ``dem``: DEM pushover) of a scene is
 stored as ``<root>/<stage>/<scene name>-<key>.json`` where the key hashes the
 scene file's canonical JSON, the stage options and the fingerprint of the code
-the stage runs (every source file of the packages involved and the pinned
-versions in pyproject.toml). An unchanged scene is not recomputed; an
+the stage runs (every source file of the packages involved, pyproject.toml and
+the pinned versions in constraints.txt). An unchanged scene is not recomputed; an
 interrupted run resumes from what is stored; a half-written file is never
 seen (write to a temporary file, then rename).
 
@@ -37,9 +37,9 @@ def code_fingerprint(stage: str) -> str:
             if p.suffix in (".py", ".json") and "__pycache__" not in p.parts:
                 h.update(str(p.relative_to(ROOT)).encode())
                 h.update(p.read_bytes())
-    pyproject = ROOT / "pyproject.toml"
-    if pyproject.exists():
-        h.update(pyproject.read_bytes())
+    for name in ("pyproject.toml", "constraints.txt"):  # the version ranges, the pinned versions
+        if (ROOT / name).exists():
+            h.update((ROOT / name).read_bytes())
     return h.hexdigest()
 
 

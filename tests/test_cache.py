@@ -112,13 +112,14 @@ def fingerprints():
     ("limit/schema.json", True, True),
     ("limit/new.py", True, True),
     ("pyproject.toml", True, True),
+    ("constraints.txt", True, True),
     ("dem_validation/run.py", False, True),
     ("limit/notes.md", False, False),
     ("limit/__pycache__/lp.cpython-312.pyc", False, False),
     ("limit/__pycache__/stale.py", False, False),
 ])
 def test_code_stamp(fake_root, scene, edit, la_changes, dem_changes):
-    """A changed .py or .json file of a stage's packages, or pyproject.toml (the pinned versions),
+    """A changed .py or .json file of a stage's packages, or pyproject.toml or constraints.txt (the pinned versions),
     changes that stage's fingerprint and so its keys (a miss); other files change nothing (a hit).
     la runs limit/ only, dem also dem_validation/."""
     la0, dem0 = fingerprints()

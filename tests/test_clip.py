@@ -1,4 +1,4 @@
-"""limit/clip.py ``intersect`` against shapely (pinned in pyproject) and closed forms, on nearly
+"""limit/clip.py ``intersect`` against shapely (test extra, pinned in constraints.txt) and closed forms, on nearly
 parallel edges. Lengths in m, tol = 1e-6 m unless told."""
 import numpy as np
 import pytest
