@@ -123,3 +123,53 @@ def test_a_sliding_mechanism_is_refused_naming_the_joint():
     r = analyse(scene, method="lp")
     with pytest.raises(ValueError, match="base\\|block slides"):
         follow(scene, r.lp.mechanism, r.lp.alpha)
+
+
+# ------------------------------------------------------------------ demand and the check
+
+def test_spectrum_by_hand_and_the_linear_check():
+    """ag = 0.25 g, S = 1.2, F0 = 2.5, TB/TC/TD = 0.15/0.5/2 s: plateau 0.25 9.81 1.2 2.5 =
+    7.3575 m/s^2; Se(0) = ag S = 2.943; Se(1) = 7.3575 0.5 / 1 = 3.67875; Se(4) = 7.3575 0.5 2 / 16
+    = 0.45984. One block (e* = 1) with alpha0 = 0.3, FC = 1.35: a0* = 0.3 9.81 / 1.35 =
+    2.18 m/s^2 against ag S / q = 0.25 9.81 1.2 / 2 = 1.4715 at ground level: passes, ratio
+    1.4815. With its base at Z = 6 m of a 9 m, 3-storey building (T1 = 0.3 s, on the plateau):
+    7.3575 (6/9) (9/7) / 2 = 3.1532 m/s^2: fails."""
+    from limit.seismic_demand import Demand, check
+
+    d = Demand(ag_g=0.25, S=1.2)
+    assert d.Se(0.0) == pytest.approx(2.943) and d.Se(0.3) == pytest.approx(7.3575)
+    assert d.Se(1.0) == pytest.approx(3.67875) and d.Se(4.0) == pytest.approx(0.459844, rel=1e-5)
+    assert d.Se(0.15 - 1e-12) == pytest.approx(d.Se(0.15)) and d.Se(0.5 - 1e-12) == pytest.approx(d.Se(0.5))
+    assert d.SDe(1.0) == pytest.approx(3.67875 / (4 * math.pi ** 2))
+    a0 = 0.3 * G / 1.35
+    c = check(d, a0)
+    assert c["linear"]["pass"] and c["linear"]["ratio"] == pytest.approx(a0 / 1.4715)
+    up = check(Demand(ag_g=0.25, S=1.2, Z=6.0, H=9.0, N=3, T1=0.3), a0)
+    assert not up["linear"]["pass"] and up["linear"]["demand"] == pytest.approx(7.3575 * (6 / 9) * (9 / 7) / 2)
+    with pytest.raises(ValueError, match="demand.ag_g"):
+        Demand(ag_g=-0.1)
+    with pytest.raises(ValueError, match="above ground"):
+        Demand(ag_g=0.1, Z=3.0)
+
+
+def test_nonlinear_check_of_one_block():
+    """The block b x h = 0.3 x 1 about its toe: d0* = b/2 = 0.15 m (e* = 1, d* = d),
+    du* = 0.4 d0* = 0.06 m, ds* = 0.024 m where a* = tan(phi0 - theta) g / FC with the centroid
+    moved 0.024 m; Ts = 2 pi sqrt(ds*/as*). Demand SDe(Ts) from the spectrum."""
+    from limit.capacity_curve import follow
+    from limit.seismic_demand import Demand, check
+
+    scene = load_scene(B.single_block(2, 0.3, 1.0, mu=0.8))
+    r = analyse(scene, method="lp")
+    sp = follow(scene, r.lp.mechanism, r.lp.alpha, steps=300)["spectral"]
+    assert sp["du_star"] == pytest.approx(0.06, rel=1e-6) and sp["ds_star"] == pytest.approx(0.024, rel=1e-6)
+    # centroid at (-0.15, 0.5) from the toe moves 0.024 sideways: solve for theta
+    phi0 = math.atan(0.3)
+    R = math.hypot(0.15, 0.5)
+    th = phi0 - math.asin((0.15 - 0.024) / R)  # its horizontal lever to the toe is then 0.15 - 0.024
+    as_ = math.tan(phi0 - th) * G / 1.35
+    assert sp["as_star"] == pytest.approx(as_, rel=1e-4)
+    assert sp["Ts"] == pytest.approx(2 * math.pi * math.sqrt(0.024 / as_), rel=1e-4)
+    d = Demand(ag_g=0.25, S=1.2)
+    c = check(d, 0.3 * G / 1.35, sp["du_star"], sp["Ts"])
+    assert c["nonlinear"]["demand"] == pytest.approx(d.SDe(sp["Ts"])) and c["nonlinear"]["pass"] == (0.06 >= d.SDe(sp["Ts"]))
