@@ -169,7 +169,9 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
            theta_max: float = 0.5, fc: float = FC_DEFAULT) -> dict:
     """alpha along the mechanism (module docstring) until it reaches zero, or until a block
     turned ``theta_max`` rad, in ``steps`` equal steps of the control displacement. Returns
-    {"d" (m), "alpha", "rotation" (the control block's, rad, counter-clockwise), "d0" (m, None
+    {"d" (m), "alpha", "rotation" (the control block's, rad, counter-clockwise), "d_work" (m: the
+    live load's work-conjugate displacement sum fL_i . u_i / sum |fL_i|, the DEM's control
+    displacement; body forces), "d0" (m, None
     when alpha stays > 0), "control" (block id),
     "spectral": {"d_star" m, "a_star" m/s^2, "d0_star", "du_star", "ds_star", "as_star",
     "Ts" s, "e_star", "M_star"}, "alpha0" (the start's multiplier, by the same ratio)}."""
@@ -205,6 +207,8 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
     span = theta_max * rate / wmax if wmax > 0 else 0.1 * float(np.ptp(ch.c0, axis=0).max())
     h = span / steps
     d, al, rot, x0 = [0.0], [a_start], [0.0], ch.c[ctrl] @ dirn
+    fl_den = float(np.linalg.norm(fL[:, :2], axis=1).sum())
+    dwork = [0.0]
     d0 = None
     for _ in range(steps):  # midpoint rule on the twists
         v = v / control_rate(v)
@@ -221,6 +225,8 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
         d.append(sign * (ch.c[ctrl] @ dirn - x0))
         al.append(a)
         rot.append(float(ch.th[ctrl]))
+        du = np.array([ch.c[i] - ch.c0[i] for i in ch.free])
+        dwork.append(float(np.sum(fL[:, :2] * du)) / fl_den if fl_den > 0 else float("nan"))
         if a <= 0:
             # inverse quadratic interpolation d(alpha) through the last three points at alpha = 0
             m = min(3, len(d))
@@ -239,5 +245,5 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
         ds = 0.4 * du
         as_ = float(np.interp(ds, d * ratio, al)) * g / (lin["e_star"] * fc)
         spec.update(d0_star=d0s, du_star=du, ds_star=ds, as_star=as_, Ts=2 * np.pi * np.sqrt(ds / as_) if as_ > 0 else None)
-    return {"d": d.tolist(), "alpha": al.tolist(), "rotation": rot, "d0": d0, "control": scene.blocks[ctrl].id,
+    return {"d": d.tolist(), "alpha": al.tolist(), "rotation": rot, "d_work": dwork, "d0": d0, "control": scene.blocks[ctrl].id,
             "alpha0": a_start, "spectral": spec, "n_joint_equations": len(ch.rows)}

@@ -242,17 +242,25 @@ def capacity_points(dem: dict) -> dict:
     return {"curves": out, "collapse": collapse}
 
 
-def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | None = None) -> bool:
+def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | None = None,
+                    kinematic: dict | None = None) -> bool:
     """alpha against the control displacement (mm) of every YADE run and of LMGC90's
     trials (rigid blocks: each trial starts from rest, so its points are the ends of the
     trials that held, at a few micrometres, and its x the lowest that collapsed); dashed
     lines at the limit analysis's alpha (frictional where it ran), at YADE's extrapolated
-    alpha and at LMGC90's. False (no figure) when neither engine has an equilibrium to draw."""
+    alpha and at LMGC90's; and ``kinematic`` (:func:`limit.capacity_curve.follow`): the limit
+    analysis's mechanism followed at finite displacement, alpha against its work-conjugate
+    displacement. False (no figure) when there is nothing to draw."""
     pts = capacity_points(dem or {})
     rigid = capacity_points(lmgc or {}) if (lmgc or {}).get("engine") == "lmgc90" else {"curves": {}}
-    if not pts["curves"] and not rigid["curves"]:
+    if not pts["curves"] and not rigid["curves"] and not kinematic:
         return False
-    fig, ax = plt.subplots(figsize=(6.0, 3.8))
+    dyn = bool(pts["curves"] or rigid["curves"])
+    if kinematic and dyn:  # the dynamic curves live at millimetres, the mechanism's at its full travel
+        fig, (ax, axk) = plt.subplots(1, 2, figsize=(10.0, 3.8))
+    else:
+        fig, ax = plt.subplots(figsize=(6.0, 3.8))
+        axk = ax
     for k, (eps, (u, a)) in enumerate(sorted(pts["curves"].items(), key=lambda q: -q[0])):
         line, = ax.plot(1e3 * u, a, "o-", ms=3.5, lw=1.2, label=f"YADE equilibria, eps = {eps:.2g}")
         hi = pts["collapse"].get(eps)
@@ -263,6 +271,14 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
         hi = min(rigid["collapse"].values(), default=None)
         if hi is not None and np.isfinite(hi) and len(u):
             ax.plot([1e3 * u[-1]], [hi], "x", color="0.35", ms=8, mew=2)
+    if kinematic:
+        axk.plot(1e3 * np.asarray(kinematic["d_work"]), kinematic["alpha"], "-", color=COLORS["nlp"], lw=1.6,
+                 label="limit analysis, finite displacement")
+        if axk is not ax:
+            axk.set_xlabel("control displacement (mm): live-load work / |live load|")
+            axk.set_title("the limit analysis's mechanism to alpha = 0 (capacity curve)", fontsize=9)
+            axk.grid(True, alpha=0.3)
+            axk.legend(fontsize=7, loc="upper right")
     if la_alpha is not None and np.isfinite(la_alpha):
         ax.axhline(la_alpha, color=COLORS["nlp"], ls="--", lw=1.2, label=f"limit analysis {la_alpha:.4g}")
     if (dem or {}).get("alpha") is not None:

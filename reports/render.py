@@ -14,7 +14,7 @@ import json
 import math
 from pathlib import Path
 
-from . import plots
+from . import plots, verdict
 
 FAIL = {"failed"}
 
@@ -245,14 +245,19 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
             if la_alpha is None or not math.isfinite(la_alpha):
                 la_alpha = float(row["lp_alpha"].iloc[0]) if len(row) and _finite(row["lp_alpha"].iloc[0]) else None
             lm = results.get((name, "lmgc")) or {}
-            if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name, lmgc=lm):
+            kin = verdict.kinematic_curve(scene, la)
+            if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name, lmgc=lm, kinematic=kin):
                 cap_png[name] = f"figures/{name}-capacity.png"
         except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is noted, not fatal
             mech_png[name] = None
             print(f"report: no figure for {name}: {exc}")
     stamp = _dt.datetime.now().strftime("%Y-%m-%d %H:%M")
-    (out / "index.html").write_text(_html(df, mech_png, stamp, wall_time, cap_png))
-    (out / "index.md").write_text(_markdown(df, mech_png, stamp, wall_time, cap_png))
+    try:
+        example = verdict.worked_example(results, by_name)
+    except Exception as exc:  # noqa: BLE001 - the example is noted, never fatal
+        example = [f"Engineering verdict: the worked example could not be made ({type(exc).__name__}: {exc})."]
+    (out / "index.html").write_text(_html(df, mech_png, stamp, wall_time, cap_png, example))
+    (out / "index.md").write_text(_markdown(df, mech_png, stamp, wall_time, cap_png, example))
 
 
 HEAD = ["scene", "dim", "blocks", "joints", "reference", "published", "LP", "NLP", "MILP", "DEM", "LP err", "NLP err",
@@ -280,7 +285,7 @@ def _cells(r):
             _pct(r.get("lmgc_vs_la")), _num(r.get("lmgc_time_s"), ".0f")]
 
 
-def _html(df, mech_png, stamp, wall_time, cap_png=None):
+def _html(df, mech_png, stamp, wall_time, cap_png=None, example=()):
     cap_png = cap_png or {}
     e = html.escape
     h = [f"<!doctype html><html><head><meta charset='utf-8'><title>Masonry collapse: validation report</title>"
@@ -308,6 +313,13 @@ def _html(df, mech_png, stamp, wall_time, cap_png=None):
     h.append("</table>")
     h.append("<h2>Overview</h2><img src='figures/alpha.png' alt='alpha per scene'>"
              "<img src='figures/time_error.png' alt='run time against error'>")
+    for line in example:  # markdown lines: '## ' headings, '- ' items, text
+        if line.startswith("## "):
+            h.append(f"<h2>{e(line[3:])}</h2>")
+        elif line.startswith("- "):
+            h.append(f"<p>&bull; {e(line[2:]).replace('**', '')}</p>")
+        elif line:
+            h.append(f"<p>{e(line)}</p>")
     for _, r in df.iterrows():
         h.append(f"<section id='{e(r['name'])}'><h2>{e(r['name'])}</h2>")
         if r["title"] or r["figure"]:
@@ -325,7 +337,7 @@ def _html(df, mech_png, stamp, wall_time, cap_png=None):
     return "\n".join(h)
 
 
-def _markdown(df, mech_png, stamp, wall_time, cap_png=None):
+def _markdown(df, mech_png, stamp, wall_time, cap_png=None, example=()):
     cap_png = cap_png or {}
     lines = ["# Collapse of block masonry: limit analysis against DEM", "",
              f"{stamp}; {len(df)} scenes" + (f"; run time {wall_time:.0f} s" if wall_time else "") + ".", "",
@@ -335,7 +347,7 @@ def _markdown(df, mech_png, stamp, wall_time, cap_png=None):
         cells = [f"**{c}**" if c == "failed" else c for c in cells]
         lines.append("| " + " | ".join(cells) + " |")
     lines += ["", "![alpha per scene](figures/alpha.png)", "", "![run time against error](figures/time_error.png)",
-              ""]
+              ""] + list(example)
     for _, r in df.iterrows():
         lines += [f"## {r['name']}", ""]
         if r["title"] or r["figure"]:
@@ -344,5 +356,5 @@ def _markdown(df, mech_png, stamp, wall_time, cap_png=None):
         if mech_png.get(r["name"]):
             lines += [f"![mechanisms]({mech_png[r['name']]})", ""]
         if cap_png.get(r["name"]):
-            lines += [f"![DEM pushover curve]({cap_png[r['name']]})", ""]
+            lines += [f"![pushover curves]({cap_png[r['name']]})", ""]
     return "\n".join(lines) + "\n"

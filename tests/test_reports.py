@@ -335,3 +335,32 @@ def test_lmgc_disagreement_names_the_known_causes():
     assert "creep" in creep[1] and "not a check" in creep[1] and "YADE agrees" not in creep[1]
     close = lmgc_lines({**base, "lmgc_alpha": 0.36, "lmgc_vs_la": 0.36 / 0.357 - 1})
     assert len(close) == 1  # within 2 %: no explanation needed
+
+
+def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
+    """The report's worked example: the 3D wall's linear check and the 2D portal's linear and
+    nonlinear checks, with numbers equal to the library's (limit.kinematic_check on the LA's
+    mechanism, and the demand ag S / q = 0.2 9.81 1.2 / 2 = 1.1772 m/s^2 by hand)."""
+    from limit.analysis import analyse, public
+    from limit.kinematic_check import linear
+    from limit.scene import load_scene
+    from reports import plots, verdict
+    from tests.conftest import ROOT
+
+    by_name, results = {}, {}
+    for name in (verdict.LINEAR_SCENE, verdict.NONLINEAR_SCENE):
+        path = ROOT / "scenes" / "catalog" / f"{name}.json"
+        by_name[name] = path
+        results[(name, "la")] = public(analyse(load_scene(path), method="auto"))
+    text = "\n".join(verdict.worked_example(results, by_name))
+    assert "ag = 0.2 g" in text and "C8A.4.9" in text and "against ag S / q = 1.177 m/s^2" in text
+    scene = load_scene(by_name[verdict.LINEAR_SCENE])
+    step, a0, mech = verdict.la_mechanism(results[(verdict.LINEAR_SCENE, "la")])
+    q = linear(scene, mech, a0, verdict.FC)
+    assert f"a0* = {q['a0_star']:.3f} m/s^2" in text and f"e* = {q['e_star']:.3f}" in text
+    assert text.count("Linear check") == 2 and text.count("Nonlinear check: du*") == 1
+    portal = load_scene(by_name[verdict.NONLINEAR_SCENE])
+    kin = verdict.kinematic_curve(portal, results[(verdict.NONLINEAR_SCENE, "la")])
+    assert kin is not None and kin["alpha"][0] == pytest.approx(0.2, rel=1e-6) and kin["d0"] > 0
+    assert plots.capacity_figure(None, 0.2, tmp_path / "k.png", kinematic=kin)
+    assert verdict.worked_example({}, by_name) == []  # no LA result: no example
