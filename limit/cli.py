@@ -1,4 +1,4 @@
-"""Command line: ``limit info|solve SCENE.json [--json OUT.json]`` (or ``python -m limit``).
+"""Command line: ``limit info|solve|check|sweep SCENE.json [--json OUT.json]`` (or ``python -m limit``).
 
 Exit status (docs/formats.md, 'Commands'): 0 success, 2 rejected input (one line on
 stderr, no traceback), 1 any other failure, 130 interrupted.
@@ -53,7 +53,87 @@ def _parser() -> argparse.ArgumentParser:
                     help="also run the NLP from an arbitrary start (the paper's Fig. 4 comparison)")
     ps.add_argument("--nlp-time-budget", type=float, default=None, metavar="S",
                     help="wall-clock budget of step 2 in s: no restart begins after it (default 120)")
+    pc = sub.add_parser("check", help="code check of the local mechanism: M*, e*, a0*, capacity curve, verdict "
+                                      "(NTC 2018 / Circolare C8.7.1)")
+    pc.add_argument("scene")
+    pc.add_argument("--strict", action="store_true", help="an unknown key in the scene is an error (exit 2)")
+    pc.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto", help="as for solve")
+    pc.add_argument("--fc", type=float, default=1.35, help="confidence factor FC (default 1.35, knowledge level LC1)")
+    pc.add_argument("--ag", type=float, default=None, metavar="G",
+                    help="peak ground acceleration on rock, in g: with it, the check against the demand")
+    for k, v, h in (("S", 1.0, "soil and topography factor"), ("F0", 2.5, "spectral amplification"),
+                    ("TB", 0.15, "corner period TB (s)"), ("TC", 0.5, "corner period TC (s)"),
+                    ("TD", 2.0, "corner period TD (s)"), ("q", 2.0, "behaviour factor"),
+                    ("Z", 0.0, "height of the mechanism's base (m; 0: ground level)")):
+        pc.add_argument(f"--{k}", type=float, default=v, help=f"{h} (default {v:g})")
+    pc.add_argument("--H", type=float, default=None, help="building height (m), with Z > 0")
+    pc.add_argument("--N", type=int, default=None, help="storeys, with Z > 0")
+    pc.add_argument("--T1", type=float, default=None, help="building's first period (s), with Z > 0")
+    pc.add_argument("--json", metavar="OUT.json", help="write the assessment as JSON")
+    pw = sub.add_parser("sweep", help="3D: alpha over the horizontal directions of the live load, its minimum")
+    pw.add_argument("scene")
+    pw.add_argument("--step", type=float, default=5.0, help="degrees between directions (default 5)")
+    pw.add_argument("--mirror", action="store_true",
+                    help="the scene is mirror-symmetric about the vertical plane of its live load: solve half")
+    pw.add_argument("--jobs", type=int, default=None, help="processes (default: one per core)")
+    pw.add_argument("--json", metavar="OUT.json", help="write alpha(theta) as JSON")
     return p
+
+
+def cmd_check(args) -> int:
+    from . import jsonio
+    from .local_check import assess, format_assessment
+    from .scene import load_scene
+    from .seismic_demand import Demand
+
+    if not (args.fc >= 1.0):
+        raise SceneError(f"--fc: the confidence factor must be >= 1, got {args.fc}")
+    demand = None
+    if args.ag is not None:
+        try:
+            demand = Demand(ag_g=args.ag, S=args.S, F0=args.F0, TB=args.TB, TC=args.TC, TD=args.TD, q=args.q,
+                            Z=args.Z, H=args.H, N=args.N, T1=args.T1)
+        except ValueError as exc:
+            raise SceneError(str(exc).replace("demand.ag_g", "--ag").replace("demand.", "--")) from None
+    scene = load_scene(args.scene, strict=args.strict)
+    try:
+        a = assess(scene, demand, fc=args.fc, method=args.method)
+    except ValueError as exc:
+        print(f"failed: {exc}", file=sys.stderr)
+        return 1
+    print(format_assessment(a))
+    if args.json:
+        jsonio.write_json(args.json, a)
+    return 0
+
+
+def cmd_sweep(args) -> int:
+    import json
+
+    from . import jsonio
+    from .direction_sweep import sweep
+
+    if not (0 < args.step <= 180):
+        raise SceneError(f"--step: must be in (0, 180] degrees, got {args.step}")
+    from .scene import load_scene
+
+    load_scene(args.scene)  # validates the scene (exit 2 on bad input)
+    with open(args.scene) as fh:
+        data = json.load(fh)
+    if data.get("dim") != 3:
+        raise SceneError("dim: the direction sweep is for 3D scenes")
+    try:
+        out = sweep(data, args.step, mirror=args.mirror, jobs=args.jobs,
+                    progress=lambda k, n: print(f"\r{k}/{n} directions", end="", file=sys.stderr, flush=True))
+    except ValueError as exc:
+        raise SceneError(str(exc)) from None
+    print(file=sys.stderr)
+    nlp = (out.get("min_nlp") or {}).get("nlp") or {}
+    print(f"minimum LP alpha {out['min_alpha']:.6g} at {out['min_theta']:g} deg (0 = the scene's live direction); "
+          f"frictional there: {nlp.get('alpha')} ({nlp.get('status')}); {out['time_s']:.1f} s")
+    if args.json:  # reports.plots.direction_polar draws it
+        jsonio.write_json(args.json, out)
+    return 0
 
 
 def cmd_solve(args) -> int:
@@ -95,7 +175,7 @@ def cmd_info(args) -> int:
     return 0
 
 
-COMMANDS = {"info": cmd_info, "solve": cmd_solve}
+COMMANDS = {"info": cmd_info, "solve": cmd_solve, "check": cmd_check, "sweep": cmd_sweep}
 
 
 def _one_line_warnings() -> None:

@@ -1,0 +1,67 @@
+"""The code check of a local mechanism from a scene, in one call: the limit analysis, its
+mechanism's linear kinematic quantities (:mod:`limit.kinematic_check`), the capacity curve
+where the mechanism can be followed (:mod:`limit.capacity_curve`: 2D rocking mechanisms)
+and the verdict against a demand (:mod:`limit.seismic_demand`)."""
+from __future__ import annotations
+
+from .kinematic_check import FC_DEFAULT
+from .seismic_demand import Demand, check
+
+
+def assess(scene, demand: Demand | None = None, fc: float = FC_DEFAULT, method: str = "auto") -> dict:
+    """{"step" ("nlp" or "lp": whose mechanism), "alpha0", "linear" (M*, e*, a0*, ...),
+    "curve" (alpha(d), spectral quantities; None with "curve_reason" when the mechanism cannot
+    be followed), "check" (None without a demand)}. Raises ValueError when the analysis gives
+    no mechanism (infeasible, unbounded or failed), naming its status."""
+    from .analysis import analyse, public
+    from .capacity_curve import follow
+    from .kinematic_check import linear
+
+    res = public(analyse(scene, method=method))
+    step = None
+    for name in ("nlp", "lp"):
+        part = res.get(name) or {}
+        if part.get("status") == "optimal" and part.get("mechanism") and part.get("alpha") is not None:
+            step = name
+            break
+    if step is None:
+        raise ValueError(f"no mechanism to check: the LP is {res['lp'].get('status')}"
+                         + (f" ({res['lp'].get('reason')})" if res["lp"].get("reason") else ""))
+    alpha0, mech = float(res[step]["alpha"]), res[step]["mechanism"]
+    lin = linear(scene, mech, alpha0, fc)
+    curve, why = None, ""
+    if scene.dim == 2:
+        try:
+            curve = follow(scene, mech, alpha0, fc=fc)
+        except ValueError as exc:
+            why = str(exc)
+    else:
+        why = "the capacity curve follows 2D rocking mechanisms only, so far"
+    sp = (curve or {}).get("spectral") or {}
+    verdict = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts")) if demand is not None else None
+    return {"scene": scene.name, "step": step, "alpha0": alpha0, "linear": lin, "curve": curve,
+            "curve_reason": why, "check": verdict, "demand": None if demand is None else vars(demand)}
+
+
+def format_assessment(a: dict) -> str:
+    """Human lines of :func:`assess`'s result."""
+    lin = a["linear"]
+    out = [f"{a['scene']}: mechanism of the {a['step'].upper()}, alpha0 = {a['alpha0']:.6g}",
+           f"  participating mass M* = {lin['M_star']:.6g} kg, e* = {lin['e_star']:.4f}, "
+           f"a0* = {lin['a0_star']:.4f} m/s^2 = {lin['a0_star_g']:.4f} g (FC = {lin['fc']:g})"]
+    sp = (a.get("curve") or {}).get("spectral") or {}
+    if sp.get("du_star") is not None:
+        out.append(f"  capacity curve: d0* = {sp['d0_star']:.4g} m, du* = {sp['du_star']:.4g} m, "
+                   f"Ts = {sp['Ts']:.4g} s")
+    elif a.get("curve_reason"):
+        out.append(f"  capacity curve: none ({a['curve_reason']})")
+    c = a.get("check")
+    if c:
+        li = c["linear"]
+        out.append(f"  linear check: a0* {li['capacity']:.4f} vs {li['demand']:.4f} m/s^2, ratio {li['ratio']:.3f}: "
+                   + ("PASS" if li["pass"] else "FAIL"))
+        nl = c.get("nonlinear")
+        if nl:
+            out.append(f"  nonlinear check: du* {nl['capacity']:.4g} vs SDe(Ts) {nl['demand']:.4g} m, ratio "
+                       f"{nl['ratio']:.3f}: " + ("PASS" if nl["pass"] else "FAIL"))
+    return "\n".join(out)

@@ -1,0 +1,52 @@
+"""``limit check`` and ``limit sweep`` end to end (exit statuses, numbers against
+limit.kinematic_check's hand-checked values, JSON written)."""
+import json
+
+import pytest
+
+from limit.cli import main
+from scenes import builders as B
+
+
+def _write(tmp_path, data, name="s.json"):
+    p = tmp_path / name
+    p.write_text(json.dumps(data))
+    return str(p)
+
+
+def test_check_of_one_block_with_a_demand(tmp_path, capsys):
+    """0.3 x 1 block: alpha0 = 0.3, e* = 1, a0* = 0.3 9.81 / 1.35 = 2.18 m/s^2 against
+    ag S / q = 0.25 9.81 1.2 / 2 = 1.4715: passes; the capacity curve gives du* = 0.06 m."""
+    f = _write(tmp_path, B.single_block(2, 0.3, 1.0, mu=0.8))
+    out = tmp_path / "a.json"
+    assert main(["check", f, "--ag", "0.25", "--S", "1.2", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "PASS" in text and "e* = 1.0000" in text
+    a = json.loads(out.read_text())
+    assert a["linear"]["a0_star"] == pytest.approx(0.3 * 9.81 / 1.35, rel=1e-6)
+    assert a["check"]["linear"]["demand"] == pytest.approx(1.4715)
+    assert a["curve"]["spectral"]["du_star"] == pytest.approx(0.06, rel=1e-6)
+
+
+def test_check_bad_inputs_exit_2_and_no_mechanism_exit_1(tmp_path, capsys):
+    f = _write(tmp_path, B.single_block(2, 0.3, 1.0, mu=0.8))
+    assert main(["check", f, "--ag", "-1"]) == 2
+    assert "--ag: must be a positive number" in capsys.readouterr().err
+    assert main(["check", f, "--fc", "0.5"]) == 2
+    assert main(["check", f, "--ag", "0.2", "--Z", "3"]) == 2  # above ground needs H, N, T1
+    err = capsys.readouterr().err
+    assert "--fc" in err and "above ground" in err
+    wedged = _write(tmp_path, B.confined_block(2), "c.json")  # LP unbounded, step 2 gives the mechanism
+    assert main(["check", wedged, "--method", "lp"]) == 1
+    assert "no mechanism" in capsys.readouterr().err
+
+
+def test_sweep_command(tmp_path, capsys):
+    f = _write(tmp_path, B.single_block(3, 0.3, 1.0, t=0.3, mu=0.8))
+    out = tmp_path / "w.json"
+    assert main(["sweep", f, "--step", "45", "--jobs", "1", "--json", str(out)]) == 0
+    r = json.loads(out.read_text())
+    assert len(r["theta"]) == 8 and r["min_alpha"] == pytest.approx(0.3, rel=1e-6)
+    assert "minimum LP alpha 0.3" in capsys.readouterr().out
+    assert main(["sweep", _write(tmp_path, B.single_block(2), "d.json")]) == 2
+    assert main(["sweep", f, "--step", "0"]) == 2
