@@ -19,7 +19,7 @@ import pandas as pd
 import scipy.sparse as sp
 from scipy.optimize import LinearConstraint, NonlinearConstraint, minimize
 
-from limit import milp, nlp
+from limit import milp, nlp, step2
 from limit.analysis import solve_lp
 from limit.assemble import assemble
 from limit.nlp_problem import build
@@ -73,7 +73,7 @@ def sizes_part():
         sol, _, _ = solve_lp(P)
         t_lp = time.perf_counter() - t0
         t1 = time.perf_counter()
-        part = nlp.step2(P, sol, method="nlp", global_check=scene.n_blocks - 1 <= MILP_MAX_BLOCKS,
+        part = step2.step2(P, sol, method="nlp", global_check=scene.n_blocks - 1 <= MILP_MAX_BLOCKS,
                          global_time_limit=60.0)
         t_nlp = time.perf_counter() - t1 - (part.get("global", {}).get("time_s") or 0.0)
         g = part.get("global", {})
@@ -92,7 +92,7 @@ def sizes_part():
 def strategies_part():
     rows = []
     variants = {"LP start only": ((), ), "+ penalty restarts": (("penalty",),),
-                "+ random restarts": (("penalty", "random"),), "+ reduced friction (default)": (nlp.ALL_STRATEGIES,)}
+                "+ random restarts": (("penalty", "random"),), "+ reduced friction (default)": (step2.ALL_STRATEGIES,)}
     for (c, k, L, H) in SMALL_WALLS:
         for mu in MUS:
             P = assemble(load_scene(B.running_bond_wall(c, k, dim=2, L=L, H=H, mu=mu)))
@@ -100,7 +100,7 @@ def strategies_part():
             found = {}
             for label, (strat,) in variants.items():
                 t0 = time.perf_counter()
-                out = nlp.run(P, sol, restarts=bool(strat), strategies=strat)
+                out = step2.run(P, sol, restarts=bool(strat), strategies=strat)
                 found[label] = (out["alpha"] if out["ok"] else None, time.perf_counter() - t0)
             ub = min([a for a, _ in found.values() if a is not None] + [sol.alpha])
             g = milp.global_minimum(P, ub, time_limit=120)

@@ -16,7 +16,7 @@ import time
 
 import pandas as pd
 
-from limit import nlp, step2_large
+from limit import nlp, step2, step2_large
 from limit.analysis import solve_lp
 from limit.assemble import assemble
 from limit.scene import load_scene
@@ -54,7 +54,7 @@ def one(n, dim) -> dict:
            "iterations": sum(r.get("iterations", 0) for r in big["starts"]), "reason": big.get("reason", "")}
     if dim == 2 and n <= COMPARE_MAX:
         t = time.perf_counter()
-        today = nlp.run(P, sol)
+        today = step2.run(P, sol)
         row.update(today_alpha=today.get("alpha") if today["ok"] else None, today_s=time.perf_counter() - t)
     print(f"step2-large {dim}D {row['blocks']:6d} blocks LP {sol.alpha:.5f} route {row['alpha']} "
           f"({row['time_s']:.1f} s, {row['n_verified']}/{row['starts']} starts verified) "

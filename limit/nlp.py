@@ -34,7 +34,7 @@ import scipy.sparse as sp
 from scipy.optimize import minimize
 
 from . import lpsub, mechanism, verify
-from .nlp_problem import NLPProblem, build
+from .nlp_problem import NLPProblem
 from .yield_domain import SLIDE, TWIST
 
 SLSQP_MAX_VARS = 250
@@ -232,7 +232,7 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     return True, f"{n_slide} interface(s) slide and {n_twist} twist in the LP mechanism"
 
 
-def _finish(N, z, alpha_lp, backend, polisher=None, unpolished: bool = True):
+def finish(N, z, alpha_lp, backend, polisher=None, unpolished: bool = True):
     """Polish z with the piece LP when that helps, then check it: (z, ok, residuals, reason, note).
     ``polisher(N, z, backend=, rule=)``: :func:`polish` by default; ``unpolished``: z itself is
     a candidate too (after the polished points, lowest alpha first)."""
@@ -267,7 +267,7 @@ def reduced_friction_lp(P, factor: float):
     or None when it has no optimum)."""
     import dataclasses
 
-    from .analysis import solve_lp
+    from .checked_lp import solve_lp
     from .assemble import assemble
 
     P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor))
@@ -295,203 +295,3 @@ def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FAC
         if z0 is not None:
             out.append((f"lp-mu*{f:g}", z0))
     return out
-
-
-ALL_STRATEGIES = ("penalty", "random", "friction")
-
-
-#: default wall-clock budget of step 2 (s): restarts are not begun past it, and a run that
-#: is still going stops there (its point is polished and checked like any other)
-TIME_BUDGET = 120.0
-#: without a verified point the plan goes on up to this many budgets, then stops for good
-HARD_FACTOR = 5.0
-
-
-def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto", seed: int = 0,
-        restarts: bool = True, strategies=ALL_STRATEGIES, time_budget: float | None = TIME_BUDGET) -> dict:
-    """Solve step 2 from the given start; returns the raw outcome (not yet the result part).
-
-    From the LP start the primary solver (SLSQP for small problems, SLA otherwise)
-    runs first. With ``restarts`` the SLA also runs from the same start with
-    initial penalties 1, 0.1 and 0.01 (a low penalty lets it wander further before
-    complementarity is enforced), a few times with random positive costs on the
-    multipliers (RANDOM_RESTARTS; seeded, reproducible), and from the associative
-    LPs at reduced friction (:func:`reduced_friction_starts`). The problem is
-    non-convex: each run ends at a local solution; the lowest alpha that passes
-    the independent check is kept and every run is listed. ``time_budget`` (s, None:
-    none): once it is spent and a verified point is in hand, the run in progress
-    stops and the runs left are listed as not begun; without a verified point the
-    plan goes on up to HARD_FACTOR budgets (a result that fails then says so).
-    """
-    t0 = time.perf_counter()
-    deadline = None if time_budget is None else t0 + time_budget
-    hard = None if time_budget is None else t0 + HARD_FACTOR * time_budget
-    N = build(P)
-    if backend == "auto":
-        backend = "highs" if N.n <= 3000 else "clarabel"
-    if solver == "auto":
-        solver = "slsqp" if N.n <= SLSQP_MAX_VARS else "sla"
-    rng = np.random.default_rng(seed)
-    if start == "lp":
-        z0, why = phase1(N, lp_start(N, lp_sol), backend)
-        if z0 is None:
-            return {"ok": False, "reason": f"no non-associative mechanism from the LP start ({why})",
-                    "solver": solver, "time_s": time.perf_counter() - t0, "runs": []}
-        label = "lp"
-    else:
-        z0, label = arbitrary_start(N, seed), "arbitrary"
-    plan = [(label, z0, solver, 1.0, None)]
-    strategies = set(strategies) if restarts else set()
-    if "penalty" in strategies:
-        plan += [(label, z0, "sla", r, None) for r in (1.0, 0.1, 0.01) if (solver, 1.0) != ("sla", r)]
-    if "random" in strategies:
-        n_random = RANDOM_RESTARTS[0] if N.n <= 5000 else RANDOM_RESTARTS[1]
-        s0 = np.maximum(N.slack(z0), 0.0)
-        scale = float(s0.mean()) if s0.size and s0.mean() > 0 else 1.0
-        for _ in range(n_random):
-            plan.append((label, z0, "sla", float(rng.choice([1.0, 0.1, 0.01])),
-                         0.2 * scale * rng.uniform(0, 1, P.model.n_faces)))
-    if "friction" in strategies:
-        for lab, zs in reduced_friction_starts(P, N, backend):
-            plan += [(lab, zs, "sla", r, None) for r in (1.0, 0.1, 0.01)]
-    lp = None
-    if backend == "highs" and any(p[2] == "sla" for p in plan):
-        lo, hi = N.bounds()
-        lo[N.ia] = 0.0
-        lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, np.zeros(N.Yx.shape[0]), lo, hi)
-    runs, best = [], None
-    for k, (lab, zs, name, rho0, jitter) in enumerate(plan):
-        t1 = time.perf_counter()
-        have = best is not None and best[1]  # a verified point in hand
-        if deadline is not None and best is not None and (have and t1 > deadline or t1 > hard):
-            spent = time_budget if have else HARD_FACTOR * time_budget
-            runs.append({"start": lab, "solver": name, "not_run": len(plan) - k,
-                         "reason": f"time budget of {spent:g} s spent: {len(plan) - k} run(s) not begun"})
-            break
-        if name == "slsqp":
-            z, note = solve_slsqp(N, zs)
-        elif name == "sla":
-            z, note = solve_sla(N, zs, backend, rho0=rho0, lp=lp, jitter=jitter, deadline=deadline if have else hard)
-        else:
-            raise ValueError(f"unknown NLP solver {name!r} (slsqp, sla or auto)")
-        alpha_raw = float(z[N.ia])
-        zf, ok, res, why, pnote = _finish(N, z, lp_sol.alpha, backend)
-        run = {"start": lab, "solver": name, "rho0": rho0, "random": jitter is not None, "alpha": float(zf[N.ia]),
-               "alpha_raw": alpha_raw, "verified": ok, "reason": why, "notes": [note, pnote],
-               "time_s": time.perf_counter() - t1}
-        runs.append(run)
-        if best is None or (ok, -zf[N.ia]) > (best[1], -best[0][N.ia]):
-            best = (zf, ok, res, why, run)
-    zf, ok, res, why, run = best
-    return {"ok": ok, "z": zf, "N": N, "alpha": float(zf[N.ia]), "alpha_raw": run["alpha_raw"], "residuals": res,
-            "reason": why, "notes": run["notes"], "solver": run["solver"], "start": run["start"], "backend": backend,
-            "runs": runs, "time_s": time.perf_counter() - t0}
-
-
-#: the mixed-integer global check runs for scenes up to this many free blocks
-GLOBAL_MAX_BLOCKS = 30
-
-
-def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = "auto",
-          arbitrary: bool = False, global_check: bool = False, iterative: bool = False,
-          global_time_limit: float = 120.0, time_budget: float | None = TIME_BUDGET) -> dict:
-    """The ``nlp`` part of the result file (docs/formats.md, 'Result file').
-
-    ``method`` "auto" skips the NLP where it cannot change the answer; "nlp" always runs it.
-    ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).
-    ``global_check`` adds the mixed-integer global minimum (:mod:`limit.milp`) for scenes of up
-    to GLOBAL_MAX_BLOCKS free blocks; ``iterative`` the iterative LP of Gilbert et al.
-    (:mod:`limit.iterative_lp`). ``time_budget``: see :func:`run`.
-    """
-    t0 = time.perf_counter()
-    if lp_sol.status not in ("optimal", "unbounded"):
-        status = "infeasible" if lp_sol.status == "infeasible" else "skipped"
-        return {"status": status, "alpha": None, "time_s": 0.0,
-                "reason": f"the LP (step 1) is {lp_sol.status}: no start for step 2"}
-    n_free = P.n_dof // P.scene.ndof
-    if lp_sol.status == "unbounded":
-        need, why = True, "the LP has no mechanism (sliding needs dilatancy): step 2 starts from the dead load"
-    else:
-        need, why = needs_nlp(P, lp_sol)
-    large = lp_sol.status == "unbounded" or (solver == "auto" and n_free >= LARGE_MIN_FREE)
-    if method == "auto" and not need:
-        part = {"status": "skipped", "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
-                "mechanism": mechanism.per_block(P, lp_sol.u)}
-        _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
-        return part
-    if large:
-        out = _large(P, lp_sol, time_budget)
-    else:
-        out = run(P, lp_sol, solver=solver, start="lp", backend=backend, time_budget=time_budget)
-    part = {"status": "optimal" if out["ok"] else "failed", "alpha": out["alpha"] if out["ok"] else None,
-            "time_s": time.perf_counter() - t0, "solver": out.get("solver"), "start": out.get("start", "lp"),
-            "route": "iterative-lp" if large else "successive-lp"}
-    if large:
-        part.update({k: out.get(k) for k in ("alpha_best", "alpha_worst", "n_verified", "workers")},
-                    n_starts=len(out.get("starts", [])))
-    if not out["ok"]:
-        part["reason"] = out["reason"]
-        if "alpha" in out:
-            part["alpha_rejected"] = out["alpha"]
-    if "residuals" in out:
-        part["verification"] = out["residuals"]
-        part["alpha_before_polish"] = out["alpha_raw"]
-        part["notes"] = out["notes"]
-    part["runs"] = out.get("runs", [])
-    if out["ok"]:
-        N, z = out["N"], out["z"]
-        _, x, u, lam = N.unscale(z)
-        cls = mechanism.classify(P, u)
-        from .analysis import interfaces_part
-
-        part["mechanism"] = mechanism.per_block(P, u)
-        part["normalisation"] = "unit work of the live load: fL . u = 1"
-        part["interfaces"] = interfaces_part(P, P.model.H @ x, cls)
-        part["counts"] = {k: int(v.sum()) for k, v in cls.items()}
-        part["_summary"] = ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]
-    if arbitrary and not large:
-        arb = run(P, lp_sol, solver=solver, start="arbitrary", backend=backend, restarts=False)
-        part["alpha_arbitrary_start"] = arb.get("alpha") if arb.get("ok") else None
-        part["arbitrary_start_status"] = "optimal" if arb.get("ok") else f"failed: {arb.get('reason')}"
-    _independent(P, lp_sol, part, part["alpha"] if out["ok"] else lp_sol.alpha, global_check, iterative,
-                 global_time_limit)
-    part["time_s"] = time.perf_counter() - t0
-    return part
-
-
-#: free blocks from which ``solver="auto"`` takes the large-scale route (:mod:`limit.step2_large`):
-#: below it the successive LP's many starts found lower alphas (68-126-block walls: 3-4 % lower,
-#: in 8-42 s); at 300 blocks it stops at its time budget with a local point
-LARGE_MIN_FREE = 200
-
-
-def _large(P, lp_sol, time_budget) -> dict:
-    """The large-scale route's outcome in :func:`run`'s layout."""
-    from . import step2_large
-
-    out = step2_large.solve(P, lp_sol, time_budget=time_budget)
-    runs = [dict(r, solver="iterative-lp") for r in out.get("starts", [])]
-    return {**out, "solver": "iterative-lp", "runs": runs, "alpha_raw": out.get("alpha"),
-            "notes": [f"iterative LP (ipm) from {len(runs)} start(s), snapped by the piece LP"],
-            "alpha": out.get("alpha")}
-
-
-def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit):
-    """Add the independent routes (global MILP, iterative LP) to a result part, in place."""
-    from . import iterative_lp, milp
-
-    n_free = P.n_dof // P.scene.ndof
-    if global_check:
-        if n_free > GLOBAL_MAX_BLOCKS:
-            part["global"] = {"status": "skipped", "reason": f"{n_free} free blocks > {GLOBAL_MAX_BLOCKS}"}
-        else:
-            g = milp.global_minimum(P, alpha_ub, time_limit=time_limit)
-            entry = {k: g.get(k) for k in ("status", "alpha", "bound", "time_s", "reason")}
-            if g.get("alpha") is not None and part.get("alpha") is not None:
-                entry["gap"] = (part["alpha"] - g["alpha"]) / max(abs(g["alpha"]), 1e-12)
-            part["global"] = entry
-    if iterative and lp_sol.status != "optimal":
-        part["iterative_lp"] = {"status": "skipped", "alpha": None, "reason": f"the LP is {lp_sol.status}"}
-    elif iterative:
-        it = iterative_lp.solve(P, lp_sol)
-        part["iterative_lp"] = {k: it.get(k) for k in ("status", "alpha", "iterations", "time_s", "reason")}

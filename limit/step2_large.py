@@ -9,7 +9,8 @@ scenes whose associative LP has no mechanism):
    (:func:`limit.iterative_lp.solve`, backend "ipm"; relaxation :data:`OMEGA`:
    in 2D none, omega = 1 settled in 28 LPs on a 45-block wall where 0.5 had
    not in 60; in 3D 0.5, at 1 a 42-block wall oscillated until an LP failed,
-   at 0.5 it snapped after 22).
+   at 0.5 it snapped after 22; halved whenever the complementarity residual
+   stalls, :data:`STALL`).
    Each LP answer is a point of the frictional problem: its statics, and as
    its dual the mechanism with flow ``G lam`` (no dilatancy).
 2. After each LP the point is checked (:func:`limit.nlp.check`); once its
@@ -39,8 +40,12 @@ import numpy as np
 from . import iterative_lp, lpsub, nlp
 from .nlp_problem import build
 
-#: relaxation of N* per dimension (see the module docstring)
+#: relaxation of N* per dimension (see the module docstring), halved (down to OMEGA_MIN) each time
+#: the complementarity residual has not reached a new low for STALL LPs: at 3,052 2D blocks omega = 1
+#: oscillated (alpha 0.19 to 0.38 for 40 LPs) and 0.5 settled to a residual of 2e-3 in 37 LPs
 OMEGA = {2: 1.0, 3: 0.5}
+OMEGA_MIN = 0.125
+STALL = 8
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
 #: outer iterations (LPs) per start
@@ -126,6 +131,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     found: dict = {}
     snaps = [0]
     retry_below = [SNAP_COMP]
+    relax = {"omega": OMEGA[P.scene.dim], "best": np.inf, "best_it": 0}
 
     def on_iterate(it, r, nstar):
         z = N.join(r["alpha"], r["xh"], r["vh"], r["lamh"])
@@ -134,18 +140,23 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             found.update(z=z, how="iterate", it=it)
             return True
         comp = res["complementarity"]
+        if comp < relax["best"]:
+            relax.update(best=comp, best_it=it)
+        elif it - relax["best_it"] >= STALL and relax["omega"] > OMEGA_MIN:
+            relax.update(omega=relax["omega"] / 2.0, best_it=it)
         if comp < retry_below[0]:
             snaps[0] += 1
-            zf, ok, _, _, note = nlp._finish(N, z, alpha_ref, backend, polisher=snap, unpolished=False)
+            zf, ok, _, _, note = nlp.finish(N, z, alpha_ref, backend, polisher=snap, unpolished=False)
             if ok:
                 found.update(z=zf, how=note, it=it)
                 return True
             retry_below[0] = comp / 10.0
         return deadline is not None and time.perf_counter() > deadline
 
-    out = iterative_lp.solve(P, None, omega=OMEGA[P.scene.dim], tol=1e-10, max_iter=max_iter, backend="ipm", nstar0=nstar0,
-                             on_iterate=on_iterate)
-    rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0}
+    out = iterative_lp.solve(P, None, omega=lambda: relax["omega"], tol=1e-10, max_iter=max_iter, backend="ipm",
+                             nstar0=nstar0, on_iterate=on_iterate)
+    rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0,
+           "omega": relax["omega"]}
     if found:
         return {**rec, "verified": True, "alpha": float(found["z"][N.ia]), "z": found["z"], "how": found["how"]}
     why = out.get("reason") or ("time budget spent" if out["status"] == "stopped" else out["status"])

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from limit import iterative_lp, milp, nlp
+from limit import iterative_lp, milp, nlp, step2
 from limit.analysis import analyse, solve_lp
 from limit.assemble import assemble
 from limit.nlp_problem import build
@@ -33,7 +33,7 @@ def test_rocking_and_sliding_combined(dim):
     d = B.side_by_side(dim=dim, mu=0.5)
     P, sol = setup(d)
     closed = B.side_by_side_alpha(mu=0.5)
-    res = nlp.step2(P, sol, method="nlp", global_check=True, iterative=True)
+    res = step2.step2(P, sol, method="nlp", global_check=True, iterative=True)
     assert res["status"] == "optimal"
     a = res["alpha"]
     assert sol.alpha == pytest.approx(7 / 17, rel=1e-6)  # associative: B dilates as it slides
@@ -50,7 +50,7 @@ def test_wall_that_opens_while_it_slides():
     """3 x 3 running-bond wall, mu = 1.2: the LP's dilatant mechanism gives 1.0; the end blocks can
     instead rock about a toe while the joints above open and slide (DEM probe: 0.357)."""
     P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
-    res = nlp.step2(P, sol, method="nlp", global_check=True)
+    res = step2.step2(P, sol, method="nlp", global_check=True)
     assert sol.alpha == pytest.approx(1.0, rel=1e-6)
     assert res["status"] == "optimal"
     assert res["global"]["status"] == "optimal"
@@ -60,7 +60,7 @@ def test_wall_that_opens_while_it_slides():
 
 def test_skip_rule_pure_rocking():
     P, sol = setup(B.portal(dim=2, mu=0.9))
-    res = nlp.step2(P, sol, method="auto", global_check=True)
+    res = step2.step2(P, sol, method="auto", global_check=True)
     assert res["status"] == "skipped"
     assert "no interface slides or twists" in res["reason"]
     assert res["alpha"] == pytest.approx(sol.alpha)
@@ -70,7 +70,7 @@ def test_skip_rule_pure_rocking():
 
 def test_skip_rule_runs_nlp_when_lp_mechanism_slides():
     P, sol = setup(B.side_by_side(dim=2, mu=0.5))
-    res = nlp.step2(P, sol, method="auto")
+    res = step2.step2(P, sol, method="auto")
     assert res["status"] == "optimal"
 
 
@@ -84,7 +84,7 @@ def test_no_twisting_unknowns_in_2d():
 
 def test_check_rejects_a_corrupted_solution():
     P, sol = setup(B.side_by_side(dim=2, mu=0.5))
-    out = nlp.run(P, sol)
+    out = step2.run(P, sol)
     N, z = out["N"], out["z"]
     ok, _, _ = nlp.check(N, z, sol.alpha)
     assert ok
@@ -112,7 +112,7 @@ def test_failed_check_gives_failed_status(monkeypatch):
         return real(N, z, alpha_lp)
 
     monkeypatch.setattr(nlp, "check", corrupt)
-    res = nlp.step2(P, sol, method="nlp")
+    res = step2.step2(P, sol, method="nlp")
     assert res["status"] == "failed"
     assert res["alpha"] is None
     assert "equilibrium" in res["reason"]
@@ -123,13 +123,13 @@ def test_lp_start_beats_arbitrary_start():
     """The paper's Fig. 4 lesson: plain SQP from an arbitrary start ends at poor points or fails;
     from the LP start it reaches the global minimum (checked by the MILP)."""
     P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
-    best = nlp.run(P, sol)
+    best = step2.run(P, sol)
     g = milp.global_minimum(P, best["alpha"])
     assert g["status"] == "optimal"
     assert best["ok"] and best["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
     outcomes = []
     for seed in range(4):
-        arb = nlp.run(P, sol, solver="slsqp", start="arbitrary", seed=seed, restarts=False)
+        arb = step2.run(P, sol, solver="slsqp", start="arbitrary", seed=seed, restarts=False)
         outcomes.append(arb["alpha"] if arb["ok"] else None)
     # every arbitrary start fails its check or ends more than 10 % above the global minimum
     assert all(a is None or a > 1.1 * g["alpha"] for a in outcomes), outcomes
@@ -137,7 +137,7 @@ def test_lp_start_beats_arbitrary_start():
 
 def test_nlp_never_above_lp_and_problem_shapes():
     P, sol = setup(B.running_bond_wall(4, 4, dim=2, L=0.4, H=0.3, mu=0.9))
-    out = nlp.run(P, sol)
+    out = step2.run(P, sol)
     N = build(P)
     assert N.n == 1 + P.model.n_x + P.n_dof + P.model.n_faces
     assert out["ok"]
@@ -157,7 +157,7 @@ def test_3d_wall_nlp_starts_from_an_interior_point_lp_answer():
     failed ("Solve error"). The wall slides on its base course, alpha = mu, and the iterative LP
     of Gilbert et al. agrees."""
     P, sol = setup(B.running_bond_wall(6, 5, dim=3, mu=0.65))
-    res = nlp.step2(P, sol, method="nlp", iterative=True)
+    res = step2.step2(P, sol, method="nlp", iterative=True)
     assert res["status"] == "optimal", res.get("reason")
     assert res["alpha"] == pytest.approx(0.65, rel=1e-6)
     assert res["iterative_lp"]["alpha"] == pytest.approx(res["alpha"], rel=1e-4)
@@ -168,12 +168,12 @@ def test_time_budget_stops_restarts_but_keeps_a_verified_answer():
     is that run's (verified, never above the LP), and the full plan can only do better (here it
     reaches 5/14, the MILP's global minimum in test_wall_that_opens_while_it_slides)."""
     P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
-    out = nlp.run(P, sol, time_budget=1e-9)
+    out = step2.run(P, sol, time_budget=1e-9)
     assert out["ok"] and out["alpha"] <= sol.alpha * (1 + 1e-9)
     done = [r for r in out["runs"] if not r.get("not_run")]
     skipped = [r for r in out["runs"] if r.get("not_run")]
     assert len(done) == 1 and len(skipped) == 1 and "time budget" in skipped[0]["reason"]
-    full = nlp.run(P, sol, time_budget=None)
+    full = step2.run(P, sol, time_budget=None)
     assert len(full["runs"]) == len(done) + skipped[0]["not_run"]
     assert full["alpha"] == pytest.approx(5 / 14, rel=1e-4)
     assert full["alpha"] <= out["alpha"] + 1e-9

@@ -14,7 +14,7 @@ import sys
 
 import pytest
 
-from limit import nlp, step2_large
+from limit import nlp, step2, step2_large
 from limit.analysis import analyse, solve_lp
 from limit.assemble import assemble
 from limit.scene import load_scene
@@ -57,7 +57,7 @@ def test_side_by_side_matches_the_closed_form_and_the_successive_lp():
     data = B.side_by_side(dim=2, mu=0.5)
     P, sol = _solved(data)
     big = step2_large.solve(P, sol)
-    sla = nlp.step2(P, sol)
+    sla = step2.step2(P, sol)
     assert big["ok"] and big["alpha"] == pytest.approx(23 / 61, rel=1e-6)
     assert sla["alpha"] == pytest.approx(big["alpha"], rel=1e-6)
 
@@ -79,15 +79,15 @@ def test_small_wall_agrees_with_the_global_minimum():
 def test_a_failed_check_is_failed_never_a_number(monkeypatch):
     P, sol = _solved(B.confined_block(2))
     monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
-    part = nlp.step2(P, sol)
+    part = step2.step2(P, sol)
     assert part["status"] == "failed" and part["alpha"] is None and part["route"] == "iterative-lp"
 
 
 def test_large_scenes_take_the_large_route(monkeypatch):
     """solver='auto' picks the route by size (LARGE_MIN_FREE free blocks)."""
-    monkeypatch.setattr(nlp, "LARGE_MIN_FREE", 5)
+    monkeypatch.setattr(step2, "LARGE_MIN_FREE", 5)
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
-    part = nlp.step2(P, sol, method="nlp")
+    part = step2.step2(P, sol, method="nlp")
     assert part["route"] == "iterative-lp" and part["n_starts"] == 3 and part["status"] == "optimal"
     assert part["alpha_best"] <= part["alpha_worst"]
 

@@ -1,0 +1,41 @@
+"""The ``lp`` part of the result file and the interface part shared with step 2's
+(docs/formats.md, 'Result file')."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import mechanism
+from .assemble import Assembled
+
+
+def lp_result(P: Assembled, sol, attempts, residuals, t_total: float) -> dict:
+    """The ``lp`` part of the result file."""
+    t = dict(P.timings)
+    t.update({k: v for k, v in sol.timings.items()})
+    out = {"status": sol.status, "alpha": sol.alpha if sol.status == "optimal" else None,
+           "time_s": t_total, "solver": sol.solver, "timings": t, "attempts": attempts,
+           "model": {"interfaces": P.options.model, "n_slide": P.options.n_slide,
+                     "slide_fit": P.options.slide_fit}}
+    if sol.reason:
+        out["reason"] = sol.reason
+    if sol.status == "infeasible" and sol.alpha is not None:
+        out["alpha_free"] = sol.alpha
+    if sol.status == "optimal":
+        out["verification"] = residuals
+        out["mechanism"] = mechanism.per_block(P, sol.u)
+        out["normalisation"] = "unit work of the live load: fL . u = 1"
+        cls = mechanism.classify(P, sol.u)
+        out["interfaces"] = interfaces_part(P, P.model.H @ sol.x, cls)
+        out["counts"] = {k: int(v.sum()) for k, v in cls.items()}
+    return out
+
+
+def interfaces_part(P, r, cls) -> dict:
+    """Interface pairs, their generalised stresses (local frame) and motion flags."""
+    nq = P.scene.ndof
+    return {
+        "pairs": [list(p) for p in P.I.pairs(P.scene)],
+        "stress_components": ["V", "N", "M"] if P.scene.dim == 2 else ["V1", "V2", "N", "M1", "M2", "T"],
+        "stress": np.asarray(r).reshape(-1, nq).tolist(),
+        **{k: np.flatnonzero(v).tolist() for k, v in cls.items()},
+    }
