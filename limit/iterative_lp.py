@@ -61,7 +61,8 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
 
     ``nstar0``: the first N* (scaled, one per friction row; default: the LP's).
     ``on_iterate(it, r, nstar)`` (ipm backend): called after each LP with its result; a
-    true return value stops the iteration (status "stopped")."""
+    true return value stops the iteration (status "stopped"). With the ipm backend ``omega``
+    may be a callable, asked before each update (an adaptive relaxation)."""
     t0 = time.perf_counter()
     if backend == "ipm":
         return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0)
@@ -133,7 +134,7 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0) -> dict:
         if on_iterate is not None and on_iterate(it, r, nstar):
             status = "stopped"
             break
-        nstar = nstar + omega * (nnew - nstar)
+        nstar = nstar + (omega() if callable(omega) else omega) * (nnew - nstar)
         if change < tol:
             status = "converged"
             break
