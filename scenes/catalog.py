@@ -16,12 +16,23 @@ from .closed_forms import arch_reference
 
 CATALOG_DIR = Path(__file__).resolve().parent / "catalog"
 
-#: measured LMGC90 cost (s, one run of reports.stages.run_lmgc on this project's 2-core machine
-#: with the other core busy, 2026-11-26) of the scenes above reports.stages.LMGC_BUDGET_S: the
-#: default validation leaves them to ``--lmgc-all`` and ``make bench`` (meta.lmgc.cost_s)
+#: measured cost (CPU s) of each scene's YADE stage and LMGC90 stage, fresh-clone ``make validate``
+#: on this project's 2-core machine (2026-11-26, main at cf9f506): the validation starts the
+#: costliest stages first, and leaves LMGC90 above reports.stages.LMGC_BUDGET_S to ``--lmgc-all``
+#: (the five above 60 s: one run each, the other core busy). Written to meta.dem.cost_s and
+#: meta.lmgc.cost_s.
+DEM_COST_S = {"paper-fig2b-double-arch-2d": 689, "paper-fig3-opus-poligonale-70-2d": 426,
+              "paper-fig6-intersecting-walls-3d": 309, "paper-fig5-trilithic-3d": 295,
+              "paper-fig7-fountain-full-3d": 277, "paper-fig3-opus-poligonale-40-2d": 236, "corner-walls-3d": 119,
+              "paper-fig7-fountain-half-3d": 108, "paper-fig4-opus-africanum-2d": 81, "wall-6x5-3d": 63,
+              "wall-out-of-plane-3d": 62, "ferris-tinloi-wall-2d": 57, "paper-fig3-opus-poligonale-25-2d": 51,
+              "arch-semicircular-27-2d": 19, "paper-fig2a-double-arch-2d": 18, "wall-4x4-tilting-2d": 14}
 LMGC_COST_S = {"paper-fig3-opus-poligonale-70-2d": 343.0, "paper-fig3-opus-poligonale-40-2d": 105.0,
                "paper-fig2b-double-arch-2d": 93.0, "ferris-tinloi-wall-2d": 69.0,
-               "paper-fig4-opus-africanum-2d": 63.0}
+               "paper-fig4-opus-africanum-2d": 63.0, "paper-fig6-intersecting-walls-3d": 59,
+               "wall-6x5-3d": 55, "corner-walls-3d": 50, "paper-fig3-opus-poligonale-25-2d": 45,
+               "wall-out-of-plane-3d": 35, "paper-fig7-fountain-full-3d": 32, "wall-4x4-tilting-2d": 15,
+               "paper-fig5-trilithic-3d": 13, "arch-semicircular-27-2d": 13}
 
 
 def entries() -> dict:
@@ -107,8 +118,9 @@ def entries() -> dict:
     add(B.corner_walls(courses=4, len_a=4, len_b=3, name="corner-walls-3d"))
     for d in paper_entries() + benchmark_entries():
         add(d)
-    for name, cost in LMGC_COST_S.items():
-        out[name].setdefault("meta", {}).setdefault("lmgc", {})["cost_s"] = cost
+    for stage, costs in (("dem", DEM_COST_S), ("lmgc", LMGC_COST_S)):
+        for name, cost in costs.items():
+            out[name].setdefault("meta", {}).setdefault(stage, {})["cost_s"] = float(cost)
     return out
 
 

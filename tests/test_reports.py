@@ -364,3 +364,17 @@ def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
     assert kin is not None and kin["alpha"][0] == pytest.approx(0.2, rel=1e-6) and kin["d0"] > 0
     assert plots.capacity_figure(None, 0.2, tmp_path / "k.png", kinematic=kin)
     assert verdict.worked_example({}, by_name) == []  # no LA result: no example
+
+
+def test_stages_start_longest_first_by_measured_cost():
+    """The validation orders every stage by its expected cost: a measured meta.<stage>.cost_s
+    wins over the size estimate (Fig. 5: 17 blocks, 295 s of YADE), and an unmeasured stage
+    falls back to its size."""
+    from reports.validate import dem_cost, stage_cost
+
+    small_but_slow = {"dim": 3, "blocks": [{}] * 17, "meta": {"dem": {"cost_s": 295.0}}}
+    big_but_quick = {"dim": 2, "blocks": [{"vertices": [[0, 0]] * 8}] * 70}
+    assert stage_cost("dem", small_but_slow) == 295.0
+    assert stage_cost("dem", big_but_quick) == dem_cost(big_but_quick) == 560.0
+    assert stage_cost("la", big_but_quick) == pytest.approx(7.0)
+    assert stage_cost("lmgc", small_but_slow) == dem_cost(small_but_slow)  # no LMGC90 measurement
