@@ -30,10 +30,11 @@ DEM_TIMEOUT = 1500.0
 LMGC_TIMEOUT = 900.0
 #: LMGC90 runs in the default validation on every scene whose measured LMGC90 cost
 #: (``meta.lmgc.cost_s``, CPU s on this project's 2-core machine, written by scenes/catalog.py)
-#: is at most this: with the costliest five (70 to 340 s each) the run exceeds its 30 minutes.
+#: is at most this: with the costliest five (63 to 343 s each) the run took 31-32 minutes, over its 30,
+#: and at 60 s (Fig. 6 and the 6x5 wall in) the expected run had no margin left.
 #: ``validate --lmgc-all`` (and ``make bench``) runs every scene, and a default run shows such
 #: a cached result.
-LMGC_BUDGET_S = 60.0
+LMGC_BUDGET_S = 50.0
 #: sliding faces of the near-circular friction model of the ``cone`` stage (inscribed)
 CONE_FACES = 24
 

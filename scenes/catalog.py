@@ -19,7 +19,7 @@ CATALOG_DIR = Path(__file__).resolve().parent / "catalog"
 #: measured cost (CPU s) of each scene's YADE stage and LMGC90 stage, fresh-clone ``make validate``
 #: on this project's 2-core machine (2026-11-26, main at cf9f506): the validation starts the
 #: costliest stages first, and leaves LMGC90 above reports.stages.LMGC_BUDGET_S to ``--lmgc-all``
-#: (the five above 60 s: one run each, the other core busy). Written to meta.dem.cost_s and
+#: (the five above 60 s: one run each, the other core busy; the rest from the validation). Written to meta.dem.cost_s and
 #: meta.lmgc.cost_s.
 DEM_COST_S = {"paper-fig2b-double-arch-2d": 689, "paper-fig3-opus-poligonale-70-2d": 426,
               "paper-fig6-intersecting-walls-3d": 309, "paper-fig5-trilithic-3d": 295,
