@@ -8,6 +8,16 @@ from .kinematic_check import FC_DEFAULT
 from .seismic_demand import Demand, check
 
 
+def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
+    """(step, alpha, mechanism) of a result file's content: the frictional step 2 where it gave
+    one, else the LP's; None without either."""
+    for step in ("nlp", "lp"):
+        part = res.get(step) or {}
+        if part.get("status") == "optimal" and part.get("mechanism") and part.get("alpha") is not None:
+            return step, float(part["alpha"]), part["mechanism"]
+    return None
+
+
 def assess(scene, demand: Demand | None = None, fc: float = FC_DEFAULT, method: str = "auto") -> dict:
     """{"step" ("nlp" or "lp": whose mechanism), "alpha0", "linear" (M*, e*, a0*, ...),
     "curve" (alpha(d), spectral quantities; None with "curve_reason" when the mechanism cannot
@@ -18,16 +28,11 @@ def assess(scene, demand: Demand | None = None, fc: float = FC_DEFAULT, method: 
     from .kinematic_check import linear
 
     res = public(analyse(scene, method=method))
-    step = None
-    for name in ("nlp", "lp"):
-        part = res.get(name) or {}
-        if part.get("status") == "optimal" and part.get("mechanism") and part.get("alpha") is not None:
-            step = name
-            break
-    if step is None:
+    m = step_mechanism(res)
+    if m is None:
         raise ValueError(f"no mechanism to check: the LP is {res['lp'].get('status')}"
                          + (f" ({res['lp'].get('reason')})" if res["lp"].get("reason") else ""))
-    alpha0, mech = float(res[step]["alpha"]), res[step]["mechanism"]
+    step, alpha0, mech = m
     lin = linear(scene, mech, alpha0, fc)
     curve, why = None, ""
     if scene.dim == 2:

@@ -3,6 +3,7 @@ mechanism (limit.kinematic_check, limit.capacity_curve, limit.seismic_demand) on
 scenes with a stated demand, with the formulas and their sources."""
 from __future__ import annotations
 
+from limit.local_check import step_mechanism
 from limit.seismic_demand import G, Demand, check
 
 #: the stated demand of the worked example (illustrative: a site with ag = 0.2 g on soil C)
@@ -13,14 +14,8 @@ NONLINEAR_SCENE = "portal-2d"
 FC = 1.35
 
 
-def la_mechanism(la: dict) -> tuple[str, float, dict] | None:
-    """(step, alpha, mechanism) of the LA result: the frictional step 2 where it gave one, else
-    the LP's; None without either."""
-    for step in ("nlp", "lp"):
-        part = la.get(step) or {}
-        if part.get("status") == "optimal" and part.get("mechanism") and part.get("alpha") is not None:
-            return step, float(part["alpha"]), part["mechanism"]
-    return None
+#: (step, alpha, mechanism) of an LA result: one home, in the library
+la_mechanism = step_mechanism
 
 
 def kinematic_curve(scene, la: dict) -> dict | None:
