@@ -1,22 +1,23 @@
-"""Nonlinear kinematic analysis of a 2D mechanism: the load multiplier alpha(d) as the
+"""Nonlinear kinematic analysis of a 2D or 3D mechanism: the load multiplier alpha(d) as the
 mechanism moves through finite displacements, down to alpha = 0 (NTC 2018 C8.7.1;
 Circolare 617/2009 C8A.4.2, kept by the 2019 Circolare's C8.7.1).
 
-The mechanism's joints are read from its velocities (:func:`joints`): at each interface
-end point, contact is kept (no normal relative velocity there; an associative LP's
-dilatancy is dropped, sliding is Coulomb's) unless it opens beyond the dilatancy; where
-the joint does not slip, no tangential relative velocity either. So a hinge gives two
-equations, a joint that does nothing three, an open one none (a sliding joint would give
-two, one when it also turns about a corner; sliding mechanisms are refused for now, the
-follower being checked on rocking mechanisms only). Those points and directions are carried
-with the blocks (a hinge's point with block a; a sliding corner with its own block), and
-at each configuration the velocities are the null space of the joint equations (the one
-closest to the previous velocities when several remain). The multiplier is the ratio of
-the dead load's to the live load's power, -sum f0 . v / sum fL . v, with the loads'
-forces at the blocks' current centroids (self weight and body forces, exact; a point
-force's moment is kept at its initial value). Each step moves every block by the rigid
-motion of its velocity held over the step (a rotation about its instantaneous centre),
-with the velocities of the step's midpoint; new contacts are not looked for.
+The mechanism's joints are read from its velocities (:meth:`Chain.joints`): at each
+interface corner (a 2D interface's two ends, a 3D one's polygon corners) contact is kept
+(no normal relative velocity there; an associative LP's dilatancy is dropped) unless the
+joint opens there; where the joint does not slip, no tangential relative velocity either
+(2D: at one contact point; 3D: along both tangents at every contact corner, so no twist is
+left). So a 2D hinge gives two equations, a joint that does nothing three, an open one none;
+a 3D hinge line leaves one relative rotation. Sliding mechanisms are refused, naming the
+joint (the follower is checked on rocking mechanisms only). Points and directions are
+carried with block a, and at each configuration the velocities are the null space of the
+joint equations (the one closest to the previous velocities when several remain). The
+multiplier is the ratio of the dead load's to the live load's power, -sum f0 . v / sum
+fL . v, with the loads' forces at the blocks' current centroids (self weight and body
+forces, exact; a point force's moment is kept at its initial value). Each step moves
+every block by the exact screw motion of its twist held over the step (2D: a rotation
+about its instantaneous centre), with the twists of the step's midpoint; new contacts
+are not looked for.
 
 Control point: the centroid of the block with the largest horizontal virtual
 displacement; its horizontal displacement along the live load is ``d`` (m). Spectral
@@ -30,94 +31,131 @@ import numpy as np
 
 from .kinematic_check import FC_DEFAULT, horizontal_direction, linear, point_velocities, weights
 
+def _cross(w, r):
+    """w x r: 2D w scalar (rad/s), r (..., 2) -> (..., 2); 3D w (3,), r (..., 3)."""
+    if np.ndim(w) == 0:
+        return w * np.stack([-r[..., 1], r[..., 0]], axis=-1)
+    return np.cross(w, r)
+
+
+def _screw(w, h: float, d: int) -> tuple[np.ndarray, np.ndarray]:
+    """(E, J) of a constant spatial twist (v_O, w) held for h: a point moves x -> E x + J v_O
+    and a frame R -> E R, with E = exp(h [w]x) and J = int_0^h exp(s [w]x) ds (the solution of
+    x' = v_O + w x x; Rodrigues' formula and its integral)."""
+    if d == 2:
+        a = float(w) * h
+        if abs(a) < 1e-12:
+            return np.eye(2), h * np.array([[1.0, -0.5 * a], [0.5 * a, 1.0]])
+        c, s, ww = np.cos(a), np.sin(a), float(w)
+        return np.array([[c, -s], [s, c]]), np.array([[s, c - 1.0], [1.0 - c, s]]) / ww
+    w = np.asarray(w, dtype=float)
+    n = float(np.linalg.norm(w))
+    K = np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+    a = n * h
+    if a < 1e-12:
+        return np.eye(3) + h * K, h * np.eye(3) + 0.5 * h * h * K
+    E = np.eye(3) + np.sin(a) / n * K + (1.0 - np.cos(a)) / n ** 2 * K @ K
+    J = h * np.eye(3) + (1.0 - np.cos(a)) / n ** 2 * K + (a - np.sin(a)) / n ** 3 * K @ K
+    return E, J
+
+
 #: relative tolerance of a joint's relative velocity (of the largest in the mechanism)
 JOINT_TOL = 1e-6
 
 
-def _rot(a: float) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s], [s, c]])
-
-
-def _perp(r):
-    return np.array([-r[1], r[0]])
-
-
 class Chain:
-    """The blocks' poses and the mechanism's joints (2D)."""
+    """The blocks' poses (centroids c, rotations R from the start) and the mechanism's joints,
+    2D or 3D. Generalised velocities per free block: 2D [ux, uy, w], 3D [ux, uy, uz, wx, wy, wz]
+    at the current centroid."""
 
     def __init__(self, scene, interfaces, mechanism: dict):
-        if scene.dim != 2:
-            raise ValueError("the nonlinear kinematic analysis follows 2D mechanisms only")
         self.scene = scene
+        self.d = d = scene.dim
+        self.nd = 3 if d == 2 else 6
         self.free = [int(i) for i in scene.free]
         self.col = {i: k for k, i in enumerate(self.free)}
-        self.c0 = np.array([b.centroid for b in scene.blocks])
-        self.c = self.c0.copy()          # current centroids (n, 2)
-        self.th = np.zeros(len(scene.blocks))  # rotations from the start (rad)
-        v0 = np.zeros(3 * len(self.free))
+        self.c0 = np.array([b.centroid for b in scene.blocks], dtype=float)
+        self.c = self.c0.copy()                                     # (n, d) m
+        self.R = np.repeat(np.eye(d)[None], len(scene.blocks), 0)  # (n, d, d)
+        v0 = np.zeros(self.nd * len(self.free))
         for i in self.free:
-            v0[3 * self.col[i]:3 * self.col[i] + 3] = mechanism.get(scene.blocks[i].id, [0.0, 0.0, 0.0])
+            v0[self.nd * self.col[i]:self.nd * (self.col[i] + 1)] = mechanism.get(scene.blocks[i].id, np.zeros(self.nd))
         self.v = v0
         self.rows = self.joints(interfaces, v0)
+
+    def uw(self, v, k):
+        """(u (d,), w (scalar in 2D, (3,) in 3D)) of free block number k in v."""
+        x = v[self.nd * k:self.nd * (k + 1)]
+        return x[:self.d], (x[2] if self.d == 2 else x[3:])
 
     def body(self, i, p):
         """Block i's body coordinates of world point p (at the start)."""
         return np.asarray(p, float) - self.c0[i]
 
     def world(self, i, r):
-        return self.c[i] + _rot(self.th[i]) @ r
+        return self.c[i] + self.R[i] @ r
 
     def vel(self, v, i, p):
-        """Velocity (2,) of world point p on block i (zero for a fixed block)."""
+        """Velocity (d,) of world point p on block i (zero for a fixed block)."""
         if i not in self.col:
-            return np.zeros(2)
-        u = v[3 * self.col[i]:3 * self.col[i] + 3]
-        return u[:2] + u[2] * _perp(p - self.c[i])
+            return np.zeros(self.d)
+        u, w = self.uw(v, self.col[i])
+        return u + _cross(w, np.asarray(p, float) - self.c[i])
 
     def joints(self, I, v) -> list:
-        """Joint equations: (kind, a, b, owner of the point, body point, direction owner, body
-        direction); kind 'n' (no normal relative velocity at the point) or 't' (no tangential)."""
-        corners = {i: np.asarray(b.poly.vertices, float) for i, b in enumerate(self.scene.blocks)}
+        """Joint equations: (kind, a, b, body point on a, body direction on a), kind 'n' (no
+        normal relative velocity at the point) or 't' (no tangential relative velocity along
+        the direction). Points: a 2D interface's two ends, a 3D interface's polygon corners."""
         rel = []
         for k in range(len(I)):
             a, b = int(I.a[k]), int(I.b[k])
-            n, t = I.normal[k], I.t1[k]
-            ends = np.asarray(I.polygons[k], float)[:2]
-            dv = [self.vel(v, b, p) - self.vel(v, a, p) for p in ends]
-            rel.append((k, a, b, n, t, ends, dv))
-        scale = max((float(np.abs(x).max()) for *_, dv in rel for x in dv), default=0.0)
+            pts = np.asarray(I.polygons[k], float)
+            pts = pts[:2] if self.d == 2 else pts
+            dv = np.array([self.vel(v, b, p) - self.vel(v, a, p) for p in pts])
+            rel.append((k, a, b, pts, dv))
+        scale = max((float(np.abs(dv).max()) for *_, dv in rel if dv.size), default=0.0)
         tol = JOINT_TOL * max(scale, 1e-300)
         rows = []
-        for k, a, b, n, t, ends, dv in rel:
-            mu = float(I.mu[k])
-            slip = abs(float(dv[0] @ t))
-            if slip > tol and any(float(d @ n) <= mu * slip + tol for d in dv):
+        for k, a, b, pts, dv in rel:
+            n = I.normal[k]
+            dn = dv @ n
+            slip = float(np.linalg.norm(dv - dn[:, None] * n, axis=1).max(initial=0.0))
+            contact = dn <= float(I.mu[k]) * slip + tol
+            if slip > tol and contact.any():
                 raise ValueError(f"joint {self.scene.blocks[a].id}|{self.scene.blocks[b].id} slides: the nonlinear "
                                  "kinematic analysis follows rocking mechanisms only")
-            contact = [float(d @ n) <= mu * slip + tol for d in dv]
-            for p, on in zip(ends, contact):
-                if not on:
-                    continue
-                near_b = float(np.min(np.linalg.norm(corners[b] - p, axis=1))) < 1e-9 * (1.0 + float(np.abs(p).max()))
-                owner = b if slip > tol and near_b else a  # a corner of b sliding along a's face
-                rows.append(("n", a, b, owner, self.body(owner, p), a, n.copy()))
-            if slip <= tol and any(contact):
-                p = ends[int(np.argmax(contact))]
-                rows.append(("t", a, b, a, self.body(a, p), a, t.copy()))
+            if slip > tol:  # an open joint: no equation
+                continue
+            tdirs = [I.t1[k]] if self.d == 2 else [I.t1[k], I.t2[k]]
+            on = pts[contact]
+            rows += [("n", a, b, self.body(a, p), n.copy()) for p in on]
+            for p in (on[:1] if self.d == 2 else on):  # 3D: at every corner, so no twist is left
+                rows += [("t", a, b, self.body(a, p), np.asarray(t, float).copy()) for t in tdirs]
         return rows
 
     def matrix(self) -> np.ndarray:
-        """(equations, 3 n_free) joint equations at the current configuration."""
-        A = np.zeros((len(self.rows), 3 * len(self.free)))
-        for r, (kind, a, b, owner, rp, downer, d) in enumerate(self.rows):
-            p = self.world(owner, rp)
-            e = _rot(self.th[downer]) @ d
-            for blk, sgn in ((b, 1.0), (a, -1.0)):
-                if blk in self.col:
-                    j = 3 * self.col[blk]
-                    A[r, j:j + 2] += sgn * e
-                    A[r, j + 2] += sgn * e @ _perp(p - self.c[blk])
+        """(equations, nd n_free) joint equations at the current configuration."""
+        d, nd, m = self.d, self.nd, len(self.rows)
+        if not hasattr(self, "_rows"):  # the rows as arrays, once
+            self._rows = (np.array([r[1] for r in self.rows], dtype=int), np.array([r[2] for r in self.rows], dtype=int),
+                          np.array([r[3] for r in self.rows], dtype=float).reshape(m, d),
+                          np.array([r[4] for r in self.rows], dtype=float).reshape(m, d))
+        a, b, rp, dv = self._rows
+        Ra = self.R[a]
+        p = self.c[a] + np.einsum("kij,kj->ki", Ra, rp)
+        e = np.einsum("kij,kj->ki", Ra, dv)
+        A = np.zeros((m, nd * len(self.free)))
+        rows = np.arange(m)
+        for blk, sgn in ((b, 1.0), (a, -1.0)):
+            col = np.array([self.col.get(int(i), -1) for i in blk])
+            on = col >= 0
+            if not on.any():
+                continue
+            r, j, ee = rows[on], nd * col[on], e[on]
+            q = p[on] - self.c[blk[on]]
+            ang = (ee[:, 1] * q[:, 0] - ee[:, 0] * q[:, 1])[:, None] if d == 2 else np.cross(q, ee)
+            A[r[:, None], j[:, None] + np.arange(d)] += sgn * ee
+            A[r[:, None], j[:, None] + d + np.arange(nd - d)] += sgn * ang
         return A
 
     def velocities(self, prev: np.ndarray) -> np.ndarray:
@@ -125,6 +163,8 @@ class Chain:
         A = self.matrix()
         if not len(A):
             return prev.copy()
+        if A.shape[0] > A.shape[1]:  # same null space, from the square triangular factor
+            A = np.linalg.qr(A, mode="r")
         _, s, Vt = np.linalg.svd(A)
         rank = int(np.sum(s > 1e-10 * max(s.max(initial=0.0), 1e-300)))
         N = Vt[rank:].T
@@ -137,44 +177,60 @@ class Chain:
         return v * (float(np.linalg.norm(prev)) / nv)
 
     def twist(self, v) -> np.ndarray:
-        """Centroid velocities v (3 n_free) -> per-block twists [velocity of the body point at
-        the world origin (2), w]: a description of the motion that does not depend on where
-        the block is."""
-        t = v.reshape(-1, 3).copy()
+        """Centroid velocities v -> per-block spatial twists [velocity of the body point at the
+        world origin (d), w]: a description of the motion that does not depend on where the
+        block is."""
+        t = v.copy()
         for k, i in enumerate(self.free):
-            t[k, :2] -= t[k, 2] * _perp(self.c[i])
-        return t.ravel()
+            u, w = self.uw(v, k)
+            t[self.nd * k:self.nd * k + self.d] = u - _cross(w, self.c[i])
+        return t
 
     def at_centroids(self, tw) -> np.ndarray:
         """Twists -> centroid velocities at the current configuration."""
-        v = tw.reshape(-1, 3).copy()
+        v = tw.copy()
         for k, i in enumerate(self.free):
-            v[k, :2] += v[k, 2] * _perp(self.c[i])
-        return v.ravel()
+            uo, w = self.uw(tw, k)
+            v[self.nd * k:self.nd * k + self.d] = uo + _cross(w, self.c[i])
+        return v
 
     def move(self, tw, h):
-        """Every free block by the rigid motion of its twist held for a time h (a rotation about
-        its instantaneous centre perp(u_O) / w, or a translation)."""
+        """Every free block by the rigid motion of its twist held for a time h (exact screw
+        motion, :func:`_screw`)."""
         for k, i in enumerate(self.free):
-            uo, w = tw[3 * k:3 * k + 2], tw[3 * k + 2]
-            if abs(w * h) < 1e-15:
-                self.c[i] = self.c[i] + uo * h
-            else:
-                ic = _perp(uo) / w
-                self.c[i] = ic + _rot(w * h) @ (self.c[i] - ic)
-            self.th[i] += w * h
+            uo, w = self.uw(tw, k)
+            E, J = _screw(w, h, self.d)
+            self.c[i] = E @ self.c[i] + J @ uo
+            self.R[i] = E @ self.R[i]
+
+    def angle(self, i) -> float:
+        """Block i's rotation from the start (rad): 2D signed, counter-clockwise; 3D its
+        magnitude."""
+        R = self.R[i]
+        if self.d == 2:
+            return float(np.arctan2(R[1, 0], R[0, 0]))
+        return float(np.arccos(np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)))
 
 
 def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=None, steps: int = 400,
            theta_max: float = 0.5, fc: float = FC_DEFAULT) -> dict:
     """alpha along the mechanism (module docstring) until it reaches zero, or until a block
     turned ``theta_max`` rad, in ``steps`` equal steps of the control displacement. Returns
-    {"d" (m), "alpha", "rotation" (the control block's, rad, counter-clockwise), "d_work" (m: the
+    {"d" (m), "alpha", "rotation" (the control block's, rad: 2D counter-clockwise, 3D the angle's magnitude), "d_work" (m: the
     live load's work-conjugate displacement sum fL_i . u_i / sum |fL_i|, the DEM's control
     displacement; body forces), "d0" (m, None
     when alpha stays > 0), "control" (block id),
     "spectral": {"d_star" m, "a_star" m/s^2, "d0_star", "du_star", "ds_star", "as_star",
-    "Ts" s, "e_star", "M_star"}, "alpha0" (the start's multiplier, by the same ratio)}."""
+    "Ts" s, "e_star", "M_star"}, "alpha0" (the start's multiplier, by the same ratio)}.
+    BLAS runs on one thread meanwhile (small dense factorisations, as in :func:`limit.analyse`;
+    a 3D wall of 24 blocks took 28 s with two busy threads, 5.8 s with one)."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc)
+
+
+def _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc) -> dict:
     from .interfaces import find_interfaces
     from .loads import dead_and_live
 
@@ -190,7 +246,7 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
     sign = 1.0 if dxk > 0 else -1.0
 
     def alpha_of(v):
-        V = v.reshape(-1, 3)
+        V = v.reshape(-1, ch.nd)
         den = float(np.sum(fL * V))
         return -float(np.sum(f0 * V)) / den if den != 0 else np.nan
 
@@ -200,33 +256,33 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
     v = ch.velocities(ch.v)
     a_start = alpha_of(v)
     # step size: the control point's displacement at which a block has turned theta_max
-    wmax = float(np.max(np.abs(v.reshape(-1, 3)[:, 2]), initial=0.0))
+    wmax = float(np.max(np.linalg.norm(v.reshape(-1, ch.nd)[:, ch.d:], axis=1), initial=0.0))
     rate = control_rate(v)
     if rate <= 0:
         raise ValueError("the control point does not move along the live load")
     span = theta_max * rate / wmax if wmax > 0 else 0.1 * float(np.ptp(ch.c0, axis=0).max())
     h = span / steps
     d, al, rot, x0 = [0.0], [a_start], [0.0], ch.c[ctrl] @ dirn
-    fl_den = float(np.linalg.norm(fL[:, :2], axis=1).sum())
+    fl_den = float(np.linalg.norm(fL[:, :ch.d], axis=1).sum())
     dwork = [0.0]
     d0 = None
     for _ in range(steps):  # midpoint rule on the twists
         v = v / control_rate(v)
         t0 = ch.twist(v)
-        save = (ch.c.copy(), ch.th.copy())
+        save = (ch.c.copy(), ch.R.copy())
         ch.move(t0, 0.5 * h)
         vm = ch.velocities(ch.at_centroids(t0))
         vm = vm / control_rate(vm)
         tm = ch.twist(vm)
-        ch.c, ch.th = save
+        ch.c, ch.R = save
         ch.move(tm, h)
         v = ch.velocities(ch.at_centroids(tm))
         a = alpha_of(v)
         d.append(sign * (ch.c[ctrl] @ dirn - x0))
         al.append(a)
-        rot.append(float(ch.th[ctrl]))
+        rot.append(ch.angle(ctrl))
         du = np.array([ch.c[i] - ch.c0[i] for i in ch.free])
-        dwork.append(float(np.sum(fL[:, :2] * du)) / fl_den if fl_den > 0 else float("nan"))
+        dwork.append(float(np.sum(fL[:, :ch.d] * du)) / fl_den if fl_den > 0 else float("nan"))
         if a <= 0:
             # inverse quadratic interpolation d(alpha) through the last three points at alpha = 0
             m = min(3, len(d))

@@ -116,6 +116,60 @@ def test_two_blocks_turning_together_about_the_base_toe():
     assert out["d0"] == pytest.approx(b / 2 * (1 - math.cos(t0)) + 1.5 * h * math.sin(t0), rel=1e-6)
 
 
+@pytest.mark.parametrize("case", ["block", "wall"])
+def test_3d_rocking_follows_the_tan_closed_form(case):
+    """3D: a block b x h (depth 0.5) turning about its base edge, and the catalog's running-
+    bond wall (24 blocks, t = 0.2 m, H = 1.05 m, loaded out of plane) turning as one body
+    about its base edge: the same plane geometry as the 2D block, alpha(theta) =
+    tan(atan(t/H) - theta), with theta the rotation's magnitude (the 3D follower's
+    "rotation"), zero at d0 = t/2 for the block."""
+    from limit.capacity_curve import follow
+    from scenes.catalog import CATALOG_DIR
+
+    if case == "block":
+        b, H = 0.3, 1.0
+        scene = load_scene(B.single_block(3, b, H, t=0.5, mu=0.8))
+    else:
+        b, H = 0.2, 1.05
+        scene = load_scene(str(CATALOG_DIR / "wall-out-of-plane-3d.json"))
+    r = analyse(scene, method="lp")
+    out = follow(scene, r.lp.mechanism, r.lp.alpha, steps=150)
+    th, a = np.array(out["rotation"]), np.array(out["alpha"])
+    pos = a > 0
+    assert pos.sum() > 50 and th[pos].max() > 0.9 * math.atan(b / H)
+    assert np.max(np.abs(a[pos] - np.tan(math.atan(b / H) - th[pos]))) < 1e-6
+    if case == "block":
+        assert out["d0"] == pytest.approx(b / 2, rel=1e-6)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_portal_sway_follows_its_closed_form(dim):
+    """The catalog portal: columns b x h = 0.3 x 1.5 turning clockwise by theta about their
+    right toes, the lintel translating with their top-left corners (a parallelogram). From
+    the toe, a column's centroid is at (-b/2 cos + h/2 sin, b/2 sin + h/2 cos) and its top-left
+    corner at (-b cos + h sin, b sin + h cos) (theta's cos, sin). Virtual work, weights W_c
+    (each column) and W_L (lintel): alpha (2 W_c dx_c' + W_L dx_L') = 2 W_c dy_c' + W_L dy_L'
+    with dx_c' = (b sin + h cos)/2, dy_c' = (b cos - h sin)/2, and twice those for the lintel,
+    so alpha(theta) = (b cos - h sin) / (b sin + h cos) = tan(atan(b/h) - theta) whatever the
+    weights. The control point is the lintel's centroid (largest motion): d(theta) =
+    b (1 - cos theta) + h sin theta, so d0 = b at theta0 = atan(b/h)."""
+    from scipy.optimize import brentq
+
+    from limit.capacity_curve import follow
+    from scenes.catalog import CATALOG_DIR
+
+    b, h = 0.3, 1.5
+    scene = load_scene(str(CATALOG_DIR / f"portal-{dim}d.json"))
+    r = analyse(scene, method="lp")
+    out = follow(scene, r.lp.mechanism, r.lp.alpha, steps=200)
+    assert out["control"] == "lintel"
+    d, a = np.array(out["d"]), np.array(out["alpha"])
+    th = np.array([brentq(lambda t: b * (1 - math.cos(t)) + h * math.sin(t) - x, -0.1, 1.0) for x in d])
+    pos = a > 0
+    assert np.max(np.abs(a[pos] - np.tan(math.atan(b / h) - th[pos]))) < 1e-6
+    assert out["d0"] == pytest.approx(b, rel=1e-6)
+
+
 def test_a_sliding_mechanism_is_refused_naming_the_joint():
     from limit.capacity_curve import follow
 
