@@ -42,6 +42,10 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         if out["nlp"].get("status") == "optimal" and out["nlp"].get("alpha") is not None and \
                 out["nlp"]["alpha"] < -verify.TOL_GAP:
             out["nlp"]["status"] = "infeasible"
+    if scene.demand is not None:  # the code check, only for a scene that states a demand
+        from .local_check import scene_verdict
+
+        out["verdict"] = scene_verdict(scene, out)
     out["_assembled"] = P
     out["_lp_solution"] = sol
     return out

@@ -58,9 +58,11 @@ def _parser() -> argparse.ArgumentParser:
     pc.add_argument("scene")
     pc.add_argument("--strict", action="store_true", help="an unknown key in the scene is an error (exit 2)")
     pc.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto", help="as for solve")
-    pc.add_argument("--fc", type=float, default=1.35, help="confidence factor FC (default 1.35, knowledge level LC1)")
+    pc.add_argument("--fc", type=float, default=None,
+                    help="confidence factor FC (default: the scene's demand.fc, else 1.35, knowledge level LC1)")
     pc.add_argument("--ag", type=float, default=None, metavar="G",
-                    help="peak ground acceleration on rock, in g: with it, the check against the demand")
+                    help="peak ground acceleration on rock, in g: with it, the check against this demand (the "
+                         "spectrum options below) instead of the scene's own 'demand', if any")
     for k, v, h in (("S", 1.0, "soil and topography factor"), ("F0", 2.5, "spectral amplification"),
                     ("TB", 0.15, "corner period TB (s)"), ("TC", 0.5, "corner period TC (s)"),
                     ("TD", 2.0, "corner period TD (s)"), ("q", 2.0, "behaviour factor"),
@@ -74,7 +76,8 @@ def _parser() -> argparse.ArgumentParser:
     pw.add_argument("scene")
     pw.add_argument("--step", type=float, default=5.0, help="degrees between directions (default 5)")
     pw.add_argument("--mirror", action="store_true",
-                    help="the scene is mirror-symmetric about the vertical plane of its live load: solve half")
+                    help="the scene is mirror-symmetric about the vertical plane of its live load (checked): solve "
+                         "half; a scene declaring \"symmetry\": \"mirror\" gets this without the option")
     pw.add_argument("--jobs", type=int, default=None, help="processes (default: one per core)")
     pw.add_argument("--json", metavar="OUT.json", help="write alpha(theta) as JSON")
     return p
@@ -82,11 +85,12 @@ def _parser() -> argparse.ArgumentParser:
 
 def cmd_check(args) -> int:
     from . import jsonio
-    from .local_check import assess, format_assessment
+    from .analysis import analyse, public
+    from .local_check import format_assessment, verdict
     from .scene import load_scene
     from .seismic_demand import Demand
 
-    if not (args.fc >= 1.0):
+    if args.fc is not None and not (args.fc >= 1.0):
         raise SceneError(f"--fc: the confidence factor must be >= 1, got {args.fc}")
     demand = None
     if args.ag is not None:
@@ -97,7 +101,7 @@ def cmd_check(args) -> int:
             raise SceneError(str(exc).replace("demand.ag_g", "--ag").replace("demand.", "--")) from None
     scene = load_scene(args.scene, strict=args.strict)
     try:
-        a = assess(scene, demand, fc=args.fc, method=args.method)
+        a = verdict(scene, public(analyse(scene, method=args.method)), demand, args.fc)
     except ValueError as exc:
         print(f"failed: {exc}", file=sys.stderr)
         return 1
@@ -108,8 +112,6 @@ def cmd_check(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    import json
-
     from . import jsonio
     from .direction_sweep import sweep
 
@@ -117,13 +119,11 @@ def cmd_sweep(args) -> int:
         raise SceneError(f"--step: must be in (0, 180] degrees, got {args.step}")
     from .scene import load_scene
 
-    load_scene(args.scene)  # validates the scene (exit 2 on bad input)
-    with open(args.scene) as fh:
-        data = json.load(fh)
+    data = load_scene(args.scene).data  # validated (exit 2 on bad input)
     if data.get("dim") != 3:
         raise SceneError("dim: the direction sweep is for 3D scenes")
     try:
-        out = sweep(data, args.step, mirror=args.mirror, jobs=args.jobs,
+        out = sweep(data, args.step, mirror=True if args.mirror else None, jobs=args.jobs,
                     progress=lambda k, n: print(f"\r{k}/{n} directions", end="", file=sys.stderr, flush=True))
     except ValueError as exc:
         raise SceneError(str(exc)) from None

@@ -5,7 +5,8 @@ theta (degrees) is measured in the horizontal plane (normal to gravity) from the
 own live direction, counter-clockwise seen from above; the live load must be body forces
 (each one's direction is turned about the vertical by theta, keeping its vertical part).
 The directions run in parallel processes (``jobs``). With ``mirror`` (the scene is mirror-
-symmetric about the vertical plane containing its live direction), alpha(-theta) =
+symmetric about the vertical plane containing its live direction, :mod:`limit.symmetry`,
+declared by the scene's ``"symmetry": "mirror"`` or asked for), alpha(-theta) =
 alpha(theta): only 0..180 degrees are solved and the rest is mirrored.
 """
 from __future__ import annotations
@@ -46,18 +47,27 @@ def _lp_alpha(args) -> tuple[float, str, float | None, float]:
     return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0
 
 
-def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool = False, jobs: int | None = None,
+def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs: int | None = None,
           frictional: bool = True, progress=None) -> dict:
     """alpha(theta) of the scene dict ``data`` (3D) every ``step_deg`` over 360 degrees;
     returns {"theta" (deg), "alpha" (LP, NaN where not optimal), "status", "min_theta",
     "min_alpha" (LP), "min_nlp" (the analysis at the minimum, step 2 where it applies, or
     None), "time_s", "lp_time_s" (summed over directions), "jobs"}. ``progress(done, total)``
-    is called as directions finish."""
+    is called as directions finish. ``mirror`` None: as the scene declares (``"symmetry":
+    "mirror"``); a mirror symmetry, declared or asked for, is checked first
+    (:func:`limit.symmetry.check_mirror`: ValueError naming a block without its image)."""
     if data.get("dim") != 3:
         raise ValueError("dim: the direction sweep is for 3D scenes (a 2D scene's load direction is +/- x)")
     if not (0 < step_deg <= 180):
         raise ValueError(f"step_deg must be in (0, 180], got {step_deg!r}")
     t0 = time.perf_counter()
+    if mirror is None:
+        mirror = data.get("symmetry") == "mirror"
+    if mirror:
+        from .scene import load_scene
+        from .symmetry import check_mirror
+
+        check_mirror(load_scene(data))
     n = int(round(360.0 / step_deg))
     thetas = np.arange(n) * (360.0 / n)
     todo = [t for t in thetas if t <= 180.0 + 1e-9] if mirror else list(thetas)
@@ -101,4 +111,5 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool = False, jobs: int 
         at_min = {"lp": r.get("lp"), "nlp": r.get("nlp")}
     return {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": float(thetas[k]),
             "min_alpha": float(alpha[k]), "min_nlp": at_min, "time_s": time.perf_counter() - t0,
-            "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs}
+            "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs, "mirror": bool(mirror),
+            "solved": len(todo)}

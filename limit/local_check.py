@@ -1,6 +1,6 @@
-"""The code check of a local mechanism from a scene, in one call: the limit analysis, its
-mechanism's linear kinematic quantities (:mod:`limit.kinematic_check`), the capacity curve
-where the mechanism can be followed (:mod:`limit.capacity_curve`: 2D rocking mechanisms)
+"""The code check of a local mechanism from an analysis result: its mechanism's linear
+kinematic quantities (:mod:`limit.kinematic_check`), the capacity curve
+where the mechanism can be followed (:mod:`limit.capacity_curve`: rocking mechanisms, 2D and 3D)
 and the verdict against a demand (:mod:`limit.seismic_demand`)."""
 from __future__ import annotations
 
@@ -18,38 +18,47 @@ def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
     return None
 
 
-def assess(scene, demand: Demand | None = None, fc: float = FC_DEFAULT, method: str = "auto") -> dict:
-    """{"step" ("nlp" or "lp": whose mechanism), "alpha0", "linear" (M*, e*, a0*, ...),
-    "curve" (alpha(d), spectral quantities; None with "curve_reason" when the mechanism cannot
-    be followed), "check" (None without a demand)}. Raises ValueError when the analysis gives
+def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = None) -> dict:
+    """The code check of the mechanism of an analysis result ``res`` (:func:`limit.analyse`'s,
+    public or not): {"step" ("nlp" or "lp": whose mechanism), "alpha0", "linear" (M*, e*, a0*,
+    ...), "curve" (alpha(d), spectral quantities; None with "curve_reason" when the mechanism
+    cannot be followed), "check" (None without a demand), "demand"}. ``demand`` and ``fc``
+    default to the scene's (its "demand" key; FC 1.35). Raises ValueError when the result has
     no mechanism (infeasible, unbounded or failed), naming its status."""
-    from .analysis import analyse, public
     from .capacity_curve import follow
     from .kinematic_check import linear
 
-    res = public(analyse(scene, method=method))
+    demand = scene.demand if demand is None else demand
+    fc = (scene.fc or FC_DEFAULT) if fc is None else fc
     m = step_mechanism(res)
     if m is None:
-        raise ValueError(f"no mechanism to check: the LP is {res['lp'].get('status')}"
-                         + (f" ({res['lp'].get('reason')})" if res["lp"].get("reason") else ""))
+        lp = res.get("lp") or {}
+        raise ValueError(f"no mechanism to check: the LP is {lp.get('status')}"
+                         + (f" ({lp.get('reason')})" if lp.get("reason") else ""))
     step, alpha0, mech = m
     lin = linear(scene, mech, alpha0, fc)
     curve, why = None, ""
-    if scene.dim == 2:
-        try:
-            curve = follow(scene, mech, alpha0, fc=fc)
-        except ValueError as exc:
-            why = str(exc)
-    else:
-        why = "the capacity curve follows 2D rocking mechanisms only, so far"
+    try:
+        curve = follow(scene, mech, alpha0, fc=fc)
+    except ValueError as exc:
+        why = str(exc)
     sp = (curve or {}).get("spectral") or {}
-    verdict = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts")) if demand is not None else None
+    c = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts")) if demand is not None else None
     return {"scene": scene.name, "step": step, "alpha0": alpha0, "linear": lin, "curve": curve,
-            "curve_reason": why, "check": verdict, "demand": None if demand is None else vars(demand)}
+            "curve_reason": why, "check": c, "demand": None if demand is None else vars(demand)}
+
+
+def scene_verdict(scene, res: dict) -> dict:
+    """The result file's "verdict" of a scene with a demand: :func:`verdict`, or {"status":
+    "failed", "reason"} when the analysis gave no mechanism to check."""
+    try:
+        return {"status": "done", **verdict(scene, res)}
+    except ValueError as exc:
+        return {"status": "failed", "reason": str(exc)}
 
 
 def format_assessment(a: dict) -> str:
-    """Human lines of :func:`assess`'s result."""
+    """Human lines of :func:`verdict`'s result."""
     lin = a["linear"]
     out = [f"{a['scene']}: mechanism of the {a['step'].upper()}, alpha0 = {a['alpha0']:.6g}",
            f"  participating mass M* = {lin['M_star']:.6g} kg, e* = {lin['e_star']:.4f}, "

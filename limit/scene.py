@@ -84,6 +84,9 @@ class Scene:
     path: str | None = None
     sliding_faces: int | None = None   # 3D friction model declared by the scene (interfaces.sliding_faces)
     slide_fit: str | None = None
+    demand: object = None              # limit.seismic_demand.Demand of the file's "demand", or None
+    fc: float | None = None            # its confidence factor (demand.fc), or None
+    symmetry: str = "none"             # "mirror": declared mirror-symmetric (limit.symmetry checks it)
 
     @property
     def n_blocks(self) -> int:
@@ -276,6 +279,20 @@ def _unknown_keys(data: dict, strict: bool) -> None:
         warnings.warn(m, SceneWarning, stacklevel=3)
 
 
+def _demand(d: dict | None):
+    """The file's "demand" as a :class:`limit.seismic_demand.Demand` (None without one); its
+    rules beyond the schema's (TB < TC < TD; H, N and T1 with Z > 0) raise SceneError naming
+    the key."""
+    if d is None:
+        return None
+    from .seismic_demand import Demand
+
+    try:
+        return Demand(**{k: v for k, v in d.items() if k != "fc"})
+    except ValueError as exc:
+        raise SceneError(str(exc)) from None
+
+
 def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Scene:
     """Read, validate and build a scene.
 
@@ -369,7 +386,9 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
                   dead=dead, live=live, expected=dict(data.get("expected", {})),
                   meta=dict(data.get("meta", {})), data=data, path=path,
                   sliding_faces=data.get("interfaces", {}).get("sliding_faces"),
-                  slide_fit=data.get("interfaces", {}).get("slide_fit"))
+                  slide_fit=data.get("interfaces", {}).get("slide_fit"),
+                  demand=_demand(data.get("demand")), fc=(data.get("demand") or {}).get("fc"),
+                  symmetry=data.get("symmetry", "none"))
     if check_overlaps:
         from .overlap import check_overlaps as _check
 

@@ -82,15 +82,20 @@ class Demand:
 def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: float | None = None) -> dict:
     """The linear (and, with du* and Ts, the nonlinear) check: {"linear": {"demand" m/s^2,
     "capacity", "ratio", "pass"}, "nonlinear": {...} or None (above ground, or without a
-    capacity curve)}."""
+    capacity curve), "nonlinear_reason" (why None, else "")}."""
     d = demand
     need = d.ag_g * G * d.S / d.q
     if d.Z > 0:
         psi, gamma = d.Z / d.H, 3.0 * d.N / (2.0 * d.N + 1.0)
         need = max(need, d.Se(d.T1) * psi * gamma / d.q)
     lin = {"demand": need, "capacity": a0_star, "ratio": a0_star / need, "pass": a0_star >= need}
-    nonlin = None
-    if du_star is not None and Ts is not None and d.Z == 0:
+    nonlin, why = None, ""
+    if du_star is None or Ts is None:
+        why = "no capacity curve"
+    elif d.Z > 0:
+        why = ("the mechanism is above ground (Z > 0): the displacement demand there (a floor spectrum) is not "
+               "implemented, its formula not having been checked against the Circolare's text")
+    else:
         dd = d.SDe(Ts)
         nonlin = {"demand": dd, "capacity": du_star, "ratio": du_star / dd, "pass": du_star >= dd, "Ts": Ts}
-    return {"linear": lin, "nonlinear": nonlin}
+    return {"linear": lin, "nonlinear": nonlin, "nonlinear_reason": why}

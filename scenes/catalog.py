@@ -35,6 +35,11 @@ LMGC_COST_S = {"paper-fig3-opus-poligonale-70-2d": 343.0, "paper-fig3-opus-polig
                "paper-fig5-trilithic-3d": 13, "arch-semicircular-27-2d": 13}
 
 
+#: the report's worked example of the code check (reports/verdict.py): an illustrative site with
+#: ag = 0.2 g on soil C (S = 1.2), NTC 2018 spectrum shape, mechanisms at ground level, FC 1.35
+EXAMPLE_DEMAND = {"ag_g": 0.2, "S": 1.2, "F0": 2.5, "TB": 0.15, "TC": 0.5, "TD": 2.4, "q": 2.0, "fc": 1.35}
+
+
 def entries() -> dict:
     """name -> scene dict, in report order."""
     out = {}
@@ -55,7 +60,7 @@ def entries() -> dict:
     add(B.stack(3, dim=2, b=0.3, h=0.4, mu=0.8, name="stack-3-2d",
                 expected={"alpha": 0.3 / 1.2, "rtol": 1e-6,
                           "source": "analytic: the whole stack overturns about the base toe, alpha = b / H"}))
-    add(B.portal(dim=2, col_b=0.3, col_h=1.5, span=1.0, lintel_h=0.3, mu=0.8, name="portal-2d",
+    add(B.portal(dim=2, col_b=0.3, col_h=1.5, span=1.0, lintel_h=0.3, mu=0.8, name="portal-2d", demand=EXAMPLE_DEMAND,
                  expected={"alpha": 0.2, "rtol": 1e-6,
                            "source": "analytic: sway mechanism with the lintel translating, alpha = b / h of the columns"}))
     add(B.stack(3, dim=3, b=0.3, h=0.4, t=0.3, mu=0.8, name="stack-3-3d",
@@ -68,6 +73,8 @@ def entries() -> dict:
                               expected={"alpha": 0.2 / 1.05, "rtol": 1e-6,
                                         "source": "analytic: the wall overturns about its base edge, alpha = t / H"})
     oop["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
+    oop["demand"] = dict(EXAMPLE_DEMAND)
+    oop["symmetry"] = "mirror"  # about the vertical plane x = 1.2 m (checked by limit.symmetry)
     add(oop)
     th = math.radians(30.0)
     obl = B.single_block(dim=3, b=0.4, h=1.0, t=0.25, mu=2.0, name="block-oblique-3d",

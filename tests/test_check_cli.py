@@ -50,3 +50,43 @@ def test_sweep_command(tmp_path, capsys):
     assert "minimum LP alpha 0.3" in capsys.readouterr().out
     assert main(["sweep", _write(tmp_path, B.single_block(2), "d.json")]) == 2
     assert main(["sweep", f, "--step", "0"]) == 2
+
+
+def test_a_scene_with_a_demand_gets_a_verdict_in_its_result_file(tmp_path, capsys):
+    """The 0.3 x 1 block with "demand": {"ag_g": 0.25, "S": 1.2} in the scene: ``limit solve``
+    writes a verdict (a0* = 0.3 9.81 / 1.35 = 2.18 m/s^2 against 1.4715: passes). A strong
+    site (ag 0.5 g, S 1.5: 0.5 9.81 1.5 / 2 = 3.679 m/s^2) fails, ratio 2.18 / 3.679 = 0.593.
+    ``limit check --ag`` overrides the scene's demand. A scene without a demand has no verdict
+    (no work spent)."""
+    data = B.single_block(2, 0.3, 1.0, mu=0.8)
+    a0 = 0.3 * 9.81 / 1.35
+    for ag, S, ok in ((0.25, 1.2, True), (0.5, 1.5, False)):
+        f = _write(tmp_path, dict(data, demand={"ag_g": ag, "S": S}))
+        out = tmp_path / "r.json"
+        assert main(["solve", f, "--json", str(out)]) == 0
+        v = json.loads(out.read_text())["verdict"]
+        li = v["check"]["linear"]
+        assert v["status"] == "done" and li["pass"] is ok
+        assert li["ratio"] == pytest.approx(a0 / (ag * 9.81 * S / 2), rel=1e-6)
+        assert v["curve"]["spectral"]["du_star"] == pytest.approx(0.06, rel=1e-6)
+    capsys.readouterr()
+    assert main(["check", f, "--ag", "0.25", "--S", "1.2", "--json", str(tmp_path / "c.json")]) == 0
+    assert json.loads((tmp_path / "c.json").read_text())["check"]["linear"]["pass"] is True
+    assert main(["solve", _write(tmp_path, data, "plain.json"), "--json", str(tmp_path / "p.json")]) == 0
+    assert "verdict" not in json.loads((tmp_path / "p.json").read_text())
+
+
+def test_a_bad_demand_in_a_scene_is_named(tmp_path, capsys):
+    data = B.single_block(2, 0.3, 1.0, mu=0.8)
+    for demand, key in (({"ag_g": 0.2, "TB": 0.6}, "TB < TC < TD"), ({"ag_g": 0.2, "Z": 3.0}, "above ground"),
+                        ({"S": 1.2}, "ag_g"), ({"ag_g": -0.2}, "ag_g"), ({"ag_g": 0.2, "fc": 0.5}, "fc")):
+        assert main(["solve", _write(tmp_path, dict(data, demand=demand))]) == 2
+        assert key in capsys.readouterr().err
+
+
+def test_the_nonlinear_check_above_ground_says_why_it_is_not_made(tmp_path):
+    data = dict(B.single_block(2, 0.3, 1.0, mu=0.8), demand={"ag_g": 0.2, "Z": 3.0, "H": 9.0, "N": 3, "T1": 0.3})
+    out = tmp_path / "r.json"
+    assert main(["solve", _write(tmp_path, data), "--json", str(out)]) == 0
+    c = json.loads(out.read_text())["verdict"]["check"]
+    assert c["nonlinear"] is None and "above ground" in c["nonlinear_reason"]

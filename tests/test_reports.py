@@ -338,9 +338,10 @@ def test_lmgc_disagreement_names_the_known_causes():
 
 
 def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
-    """The report's worked example: the 3D wall's linear check and the 2D portal's linear and
-    nonlinear checks, with numbers equal to the library's (limit.kinematic_check on the LA's
-    mechanism, and the demand ag S / q = 0.2 9.81 1.2 / 2 = 1.1772 m/s^2 by hand)."""
+    """The report's verdicts: the catalog scenes stating a demand (the 3D out-of-plane wall
+    and the 2D portal, ag = 0.2 g, S = 1.2, q = 2: ag S / q = 0.2 9.81 1.2 / 2 = 1.1772 m/s^2 by
+    hand) get their linear and nonlinear checks, with numbers equal to the library's
+    (limit.kinematic_check on the LA's mechanism); a scene without a demand gets none."""
     from limit.analysis import analyse, public
     from limit.kinematic_check import linear
     from limit.scene import load_scene
@@ -348,19 +349,21 @@ def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
     from tests.conftest import ROOT
 
     by_name, results = {}, {}
-    for name in (verdict.LINEAR_SCENE, verdict.NONLINEAR_SCENE):
+    for name in ("wall-out-of-plane-3d", "portal-2d", "block-rocking-2d"):
         path = ROOT / "scenes" / "catalog" / f"{name}.json"
         by_name[name] = path
         results[(name, "la")] = public(analyse(load_scene(path), method="auto"))
+    assert "verdict" not in results[("block-rocking-2d", "la")]
     text = "\n".join(verdict.worked_example(results, by_name))
-    assert "ag = 0.2 g" in text and "C8A.4.9" in text and "against ag S / q = 1.177 m/s^2" in text
-    scene = load_scene(by_name[verdict.LINEAR_SCENE])
-    step, a0, mech = verdict.la_mechanism(results[(verdict.LINEAR_SCENE, "la")])
-    q = linear(scene, mech, a0, verdict.FC)
+    assert "ag = 0.2 g" in text and "C8A.4.9" in text and "against 1.177 m/s^2" in text
+    assert "block-rocking-2d" not in text
+    scene = load_scene(by_name["wall-out-of-plane-3d"])
+    step, a0, mech = verdict.la_mechanism(results[("wall-out-of-plane-3d", "la")])
+    q = linear(scene, mech, a0, 1.35)
     assert f"a0* = {q['a0_star']:.3f} m/s^2" in text and f"e* = {q['e_star']:.3f}" in text
-    assert text.count("Linear check") == 2 and text.count("Nonlinear check: du*") == 1
-    portal = load_scene(by_name[verdict.NONLINEAR_SCENE])
-    kin = verdict.kinematic_curve(portal, results[(verdict.NONLINEAR_SCENE, "la")])
+    assert text.count("Linear check") == 2 and text.count("Nonlinear check: du*") == 2  # 3D now too
+    portal = load_scene(by_name["portal-2d"])
+    kin = verdict.kinematic_curve(portal, results[("portal-2d", "la")])
     assert kin is not None and kin["alpha"][0] == pytest.approx(0.2, rel=1e-6) and kin["d0"] > 0
     assert plots.capacity_figure(None, 0.2, tmp_path / "k.png", kinematic=kin)
     assert verdict.worked_example({}, by_name) == []  # no LA result: no example
