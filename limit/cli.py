@@ -6,6 +6,7 @@ stderr, no traceback), 1 any other failure, 130 interrupted.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from .errors import SceneError, run_command
@@ -78,7 +79,9 @@ def _parser() -> argparse.ArgumentParser:
     pw.add_argument("--mirror", action="store_true",
                     help="the scene is mirror-symmetric about the vertical plane of its live load (checked): solve "
                          "half; a scene declaring \"symmetry\": \"mirror\" gets this without the option")
-    pw.add_argument("--jobs", type=int, default=None, help="processes (default: one per core)")
+    pw.add_argument("--jobs", type=int, default=None, help="local Dask worker processes (default: one per core)")
+    pw.add_argument("--scheduler", default=os.environ.get("DASK_SCHEDULER_ADDRESS"),
+                    help="address of an existing Dask scheduler (default: a local cluster)")
     pw.add_argument("--json", metavar="OUT.json", help="write alpha(theta) as JSON")
     return p
 
@@ -123,7 +126,7 @@ def cmd_sweep(args) -> int:
     if data.get("dim") != 3:
         raise SceneError("dim: the direction sweep is for 3D scenes")
     try:
-        out = sweep(data, args.step, mirror=True if args.mirror else None, jobs=args.jobs,
+        out = sweep(data, args.step, mirror=True if args.mirror else None, jobs=args.jobs, scheduler=args.scheduler,
                     progress=lambda k, n: print(f"\r{k}/{n} directions", end="", file=sys.stderr, flush=True))
     except ValueError as exc:
         raise SceneError(str(exc)) from None

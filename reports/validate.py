@@ -97,18 +97,12 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
     results = {}
     if not todo:
         return results
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import as_completed
     from tqdm import tqdm
 
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        n = jobs or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=40)
-        client = Client(cluster)
-    try:
+    from limit.dask_pool import dask_client
+
+    with dask_client(jobs, scheduler) as client:
         futures = {}
         # Longest first, over every stage, the short ones filling the cores at the end. Stages are
         # handed over one per free worker thread, in this order: Dask's own priorities left the
@@ -154,10 +148,6 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
             bar.set_postfix_str(f"{name} {stage}: {status}")
             bar.update(1)
         bar.close()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
     return results
 
 

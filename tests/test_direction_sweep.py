@@ -30,6 +30,18 @@ def test_square_block_follows_the_closed_form_and_mirror_halves_the_work():
     assert np.allclose(half["alpha"], out["alpha"], rtol=1e-7)
 
 
+def test_dask_workers_give_the_in_process_answers(monkeypatch):
+    """The Dask path (forced: no start-up cost assumed) against the in-process sweep."""
+    import limit.direction_sweep as ds
+
+    data = B.single_block(3, 0.3, 1.0, t=0.3, mu=0.8)
+    one = sweep(data, 30.0, jobs=1, frictional=False)
+    monkeypatch.setattr(ds, "DASK_START_S", 0.0)
+    two = sweep(data, 30.0, jobs=2, frictional=False)
+    assert one["jobs"] == 1 and two["jobs"] == 2
+    assert np.allclose(two["alpha"], one["alpha"], rtol=1e-9)
+
+
 def test_step_2_runs_at_the_minimum_and_inputs_are_checked():
     data = B.single_block(3, 0.3, 1.0, t=0.3, mu=0.8)
     out = sweep(data, 90.0, jobs=1)
