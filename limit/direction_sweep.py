@@ -29,8 +29,9 @@ import numpy as np
 DASK_START_S = 2.5
 
 
-def _turn(data: dict, theta_deg: float) -> dict:
-    """The scene dict with every live body force turned by theta about the vertical."""
+def _turn(data: dict, theta_deg: float, verdict: bool = False) -> dict:
+    """The scene dict with every live body force turned by theta about the vertical (without its
+    seismic demand unless ``verdict``: the code check is made at the minimum only)."""
     g = np.asarray(data.get("gravity", [0.0, 0.0, -9.81]), dtype=float)
     up = -g / np.linalg.norm(g)
     out = copy.deepcopy(data)
@@ -43,6 +44,8 @@ def _turn(data: dict, theta_deg: float) -> dict:
         h = d - v  # Rodrigues about the vertical: h cos t + (up x h) sin t
         ld["direction"] = (v + h * math.cos(t) + np.cross(up, h) * math.sin(t)).tolist()
     out["name"] = f"{data.get('name', 'scene')}@{theta_deg:g}deg"
+    if not verdict:
+        out.pop("demand", None)
     return out
 
 
@@ -61,9 +64,10 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
           scheduler: str | None = None, frictional: bool = True, progress=None) -> dict:
     """alpha(theta) of the scene dict ``data`` (3D) every ``step_deg`` over 360 degrees;
     returns {"theta" (deg), "alpha" (LP, NaN where not optimal), "status", "min_theta",
-    "min_alpha" (LP), "min_nlp" (the analysis at the minimum, step 2 where it applies, or
-    None), "time_s", "lp_time_s" (summed over directions), "jobs"}. ``progress(done, total)``
-    is called as directions finish. ``mirror`` None: as the scene declares (``"symmetry":
+    "min_alpha" (LP), "min_nlp" (the analysis at the minimum: "lp", "nlp" (step 2 where it
+    applies) and "verdict" (the code check there, for a scene with a demand), or None),
+    "time_s", "lp_time_s" (summed over directions), "jobs", "mirror", "solved" (directions
+    solved)}. ``progress(done, total)`` is called as directions finish. ``mirror`` None: as the scene declares (``"symmetry":
     "mirror"``); a mirror symmetry, declared or asked for, is checked first
     (:func:`limit.symmetry.check_mirror`: ValueError naming a block without its image)."""
     if data.get("dim") != 3:
@@ -126,8 +130,8 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         from .analysis import analyse, public
         from .scene import load_scene
 
-        r = public(analyse(load_scene(_turn(data, float(thetas[k]))), method="auto"))
-        at_min = {"lp": r.get("lp"), "nlp": r.get("nlp")}
+        r = public(analyse(load_scene(_turn(data, float(thetas[k]), verdict=True)), method="auto"))
+        at_min = {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}
     return {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": float(thetas[k]),
             "min_alpha": float(alpha[k]), "min_nlp": at_min, "time_s": time.perf_counter() - t0,
             "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs, "mirror": bool(mirror),

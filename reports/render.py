@@ -14,7 +14,7 @@ import json
 import math
 from pathlib import Path
 
-from . import plots, verdict
+from . import plots, verdict, worst_direction
 
 FAIL = {"failed"}
 
@@ -256,6 +256,10 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
         example = verdict.worked_example(results, by_name)
     except Exception as exc:  # noqa: BLE001 - the example is noted, never fatal
         example = [f"Engineering verdict: the worked example could not be made ({type(exc).__name__}: {exc})."]
+    try:
+        example += worst_direction.section(results, by_name, figs)
+    except Exception as exc:  # noqa: BLE001 - noted, never fatal
+        example += [f"Worst load direction: the section could not be made ({type(exc).__name__}: {exc})."]
     (out / "index.html").write_text(_html(df, mech_png, stamp, wall_time, cap_png, example))
     (out / "index.md").write_text(_markdown(df, mech_png, stamp, wall_time, cap_png, example))
 
@@ -318,6 +322,9 @@ def _html(df, mech_png, stamp, wall_time, cap_png=None, example=()):
             h.append(f"<h2>{e(line[3:])}</h2>")
         elif line.startswith("- "):
             h.append(f"<p>&bull; {e(line[2:]).replace('**', '')}</p>")
+        elif line.startswith("![") and "](" in line and line.endswith(")"):  # an image
+            alt, src = line[2:-1].split("](", 1)
+            h.append(f"<img src='{e(src)}' alt='{e(alt)}'>")
         elif line:
             h.append(f"<p>{e(line)}</p>")
     for _, r in df.iterrows():

@@ -6,7 +6,9 @@ global MILP and the iterative LP as independent checks on small scenes);
 (:data:`CONE_FACES` inscribed sliding faces, within 1 - cos(pi/24) = 0.86 % inside
 the cone that both dynamic engines use) beside the paper's 4 circumscribed faces
 (up to 41 % outside it in a diagonal direction); ``dem``: the YADE pushover;
-``lmgc``: the LMGC90 pushover (rigid contacts, :mod:`dem_validation.lmgc`). A stage never raises: any fault comes back as a
+``lmgc``: the LMGC90 pushover (rigid contacts, :mod:`dem_validation.lmgc`); ``sweep``: the
+worst horizontal direction of the live load of a 3D scene that asks for it (``meta.sweep``).
+A stage never raises: any fault comes back as a
 result with ``status`` "failed" and its reason, so the run goes on.
 
 A scene steers its DEM stage through ``meta.dem``: ``{"run": false, "reason":
@@ -146,4 +148,32 @@ def run_lmgc(path: str, options: dict) -> dict:
     return res
 
 
-STAGES = {"la": (la_options, run_la), "cone": (cone_options, run_cone), "dem": (dem_options, run_dem), "lmgc": (lmgc_options, run_lmgc)}
+def sweep_options(scene_data: dict) -> dict:
+    """A 3D scene asks for the worst-direction sweep with ``meta.sweep`` (``{"step": degrees}``,
+    default 5): most scenes do not need it, so it is opt-in."""
+    spec = (scene_data.get("meta") or {}).get("sweep")
+    return {"run": bool(spec) and scene_data.get("dim") == 3, "step": float((spec or {}).get("step", 5.0))}
+
+
+def run_sweep(path: str, options: dict) -> dict:
+    """alpha over the horizontal directions of the live load (:func:`limit.direction_sweep.sweep`,
+    in this worker: one process), with step 2 at the minimum; ``status`` done, skipped or failed."""
+    t0 = time.perf_counter()
+    if not options["run"]:
+        return {"status": "skipped", "reason": "no meta.sweep (or 2D)", "time_s": 0.0}
+    try:
+        from limit.direction_sweep import sweep
+        from limit.scene import load_scene
+
+        res = sweep(load_scene(path).data, options["step"], jobs=1)
+        res["status"] = "done" if res["min_theta"] is not None else "failed"
+        if res["status"] == "failed":
+            res["reason"] = "no direction gave an optimal LP"
+    except Exception as exc:  # noqa: BLE001 - a fault is a result, never a crash of the run
+        res = {"status": "failed", "reason": f"{type(exc).__name__}: {exc}"}
+    res["time_s"] = time.perf_counter() - t0
+    return res
+
+
+STAGES = {"la": (la_options, run_la), "cone": (cone_options, run_cone), "sweep": (sweep_options, run_sweep),
+          "dem": (dem_options, run_dem), "lmgc": (lmgc_options, run_lmgc)}

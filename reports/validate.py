@@ -51,7 +51,7 @@ def plan(files, stages, cache: Cache, fresh: bool, lmgc_all: bool = False):
 
 def _parts(stage: str, res: dict) -> list[dict]:
     """The parts of a stage result that carry a status: the DEM result, or the LP and NLP parts."""
-    return [res] if stage in ("dem", "lmgc") else [res.get("lp") or {}, res.get("nlp") or {}]  # la, cone
+    return [res] if stage in ("dem", "lmgc", "sweep") else [res.get("lp") or {}, res.get("nlp") or {}]  # la, cone
 
 
 def _failed(stage: str, res: dict) -> bool:
@@ -177,7 +177,7 @@ def main(argv=None) -> int:
         if missing:
             print(f"error: unknown scene(s): {', '.join(sorted(missing))}", file=sys.stderr)
             return 2
-    stages = ["la", "cone"] + ([] if args.no_dem else ["dem"] + ([] if args.no_lmgc else ["lmgc"]))
+    stages = ["la", "cone", "sweep"] + ([] if args.no_dem else ["dem"] + ([] if args.no_lmgc else ["lmgc"]))
     cache = Cache(args.cache)
     t0 = time.perf_counter()
     done, todo = plan(files, stages, cache, args.fresh, lmgc_all=args.lmgc_all)

@@ -381,3 +381,33 @@ def test_stages_start_longest_first_by_measured_cost():
     assert stage_cost("dem", big_but_quick) == dem_cost(big_but_quick) == 560.0
     assert stage_cost("la", big_but_quick) == pytest.approx(7.0)
     assert stage_cost("lmgc", small_but_slow) == dem_cost(small_but_slow)  # no LMGC90 measurement
+
+
+def test_sweep_stage_and_its_report_section(tmp_path):
+    """The ``sweep`` stage runs only for a 3D scene asking for it (meta.sweep); the report's
+    section draws the polar plot and the mechanism at the minimum. A square block b x b x h
+    has alpha(theta) = (b/h) / max(|cos|, |sin|) (tests/test_direction_sweep.py): minimum b/h = 0.3
+    along an axis; with a demand, the code check is made there (only)."""
+    import json
+
+    from reports import worst_direction
+    from reports.stages import run_sweep, sweep_options
+    from scenes import builders as B
+
+    data = dict(B.single_block(3, 0.3, 1.0, t=0.3, mu=0.8, name="sq"), meta={"sweep": {"step": 45}},
+                demand={"ag_g": 0.2})
+    path = tmp_path / "sq.json"
+    path.write_text(json.dumps(data))
+    res = run_sweep(str(path), sweep_options(data))
+    assert res["status"] == "done" and len(res["theta"]) == 8
+    assert res["min_alpha"] == pytest.approx(0.3, rel=1e-6) and res["min_theta"] % 90 == 0
+    assert res["min_nlp"]["verdict"]["check"]["linear"]["capacity"] == pytest.approx(0.3 * 9.81 / 1.35, rel=1e-6)
+    plain = {k: v for k, v in data.items() if k != "meta"}
+    assert run_sweep(str(path), sweep_options(plain))["status"] == "skipped"
+    figs = tmp_path / "figures"
+    figs.mkdir()
+    lines = worst_direction.section({("sq", "sweep"): res}, {"sq": path}, figs)
+    text = "\n".join(lines)
+    assert "minimum LP alpha 0.3 at" in text and "![worst load direction of sq](figures/sq-sweep.png)" in text
+    assert (figs / "sq-sweep.png").stat().st_size > 0 and (figs / "sq-sweep-mechanism.png").stat().st_size > 0
+    assert worst_direction.section({}, {"sq": path}, figs) == []
