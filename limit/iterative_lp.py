@@ -56,16 +56,17 @@ def friction_rows(P):
 
 
 def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300, backend: str = "highs",
-          nstar0: np.ndarray | None = None, on_iterate=None) -> dict:
+          nstar0: np.ndarray | None = None, on_iterate=None, lp_tol=None) -> dict:
     """{"status", "alpha", "iterations", "history", "time_s"} of the iterative LP.
 
     ``nstar0``: the first N* (scaled, one per friction row; default: the LP's).
     ``on_iterate(it, r, nstar)`` (ipm backend): called after each LP with its result; a
     true return value stops the iteration (status "stopped"). With the ipm backend ``omega``
-    may be a callable, asked before each update (an adaptive relaxation)."""
+    may be a callable, asked before each update (an adaptive relaxation), and ``lp_tol`` (a
+    number, or a callable asked before each LP) the interior point method's tolerance."""
     t0 = time.perf_counter()
     if backend == "ipm":
-        return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0)
+        return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol)
     # Yield rows with the normal-force term of the friction faces removed (moved to the right-hand side).
     fr, Yc, ncol, ncoef = friction_rows(P)
     nx = P.model.n_x
@@ -107,7 +108,7 @@ NSTAR_FLOOR = 1e-8
 NSTAR_FLOOR_MAX = 1e-4
 
 
-def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0) -> dict:
+def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=None) -> dict:
     from . import ipm
 
     fr, Yc, ncol, ncoef = friction_rows(P)
@@ -121,7 +122,8 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0) -> dict:
         while True:
             floor = rel * max(float(np.max(nstar, initial=0.0)), 1e-300)
             c[fr] = -ncoef * np.maximum(nstar, floor)
-            r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c)
+            t_lp = lp_tol() if callable(lp_tol) else lp_tol
+            r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c, **({} if t_lp is None else {"tol": t_lp}))
             if r["status"] == "optimal" or rel >= NSTAR_FLOOR_MAX:
                 break
             rel *= 100.0

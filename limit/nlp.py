@@ -232,14 +232,20 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     return True, f"{n_slide} interface(s) slide and {n_twist} twist in the LP mechanism"
 
 
-def finish(N, z, alpha_lp, backend, polisher=None, unpolished: bool = True):
+def finish(N, z, alpha_lp, backend, polisher=None, unpolished: bool = True, rules=("ratio", "support"),
+           first: bool = False):
     """Polish z with the piece LP when that helps, then check it: (z, ok, residuals, reason, note).
     ``polisher(N, z, backend=, rule=)``: :func:`polish` by default; ``unpolished``: z itself is
-    a candidate too (after the polished points, lowest alpha first)."""
+    a candidate too (after the polished points, lowest alpha first). ``rules``: the flowing-face
+    rules tried; ``first``: stop at the first polished point that passes the check (one piece
+    LP instead of two when it does), else the lowest alpha of all that pass."""
     cands = []
-    for rule in ("ratio", "support"):
+    for rule in rules:
         zp, note = (polisher or polish)(N, z, backend=backend, rule=rule)
         if zp is not None:
+            if first and check(N, zp, alpha_lp)[0]:
+                ok, res, why = check(N, zp, alpha_lp)
+                return zp, True, res, "", note
             cands.append((zp, note))
     cands.sort(key=lambda c: c[0][N.ia])
     if unpolished:
