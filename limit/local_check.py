@@ -57,25 +57,34 @@ def scene_verdict(scene, res: dict) -> dict:
         return {"status": "failed", "reason": str(exc)}
 
 
-def format_assessment(a: dict) -> str:
-    """Human lines of :func:`verdict`'s result."""
-    lin = a["linear"]
-    out = [f"{a['scene']}: mechanism of the {a['step'].upper()}, alpha0 = {a['alpha0']:.6g}",
-           f"  participating mass M* = {lin['M_star']:.6g} kg, e* = {lin['e_star']:.4f}, "
-           f"a0* = {lin['a0_star']:.4f} m/s^2 = {lin['a0_star_g']:.4f} g (FC = {lin['fc']:g})"]
+def verdict_lines(a: dict) -> list[str]:
+    """Sentences of :func:`verdict`'s result (lengths in mm, accelerations in m/s^2): the
+    linear quantities, the capacity curve (or why none), the checks (or why not made). One
+    wording for ``limit check`` and the report."""
+    q = a["linear"]
+    out = [f"Mechanism of the {a['step'].upper()}, alpha0 = {a['alpha0']:.6g}: M* = {q['M_star']:.6g} kg"
+           + (f" of {q['sum_P'] / 9.81:.4g} kg moving" if "sum_P" in q else "")
+           + f", e* = {q['e_star']:.4f}, a0* = {q['a0_star']:.4f} m/s^2 = {q['a0_star_g']:.4f} g (FC = {q['fc']:g})."]
     sp = (a.get("curve") or {}).get("spectral") or {}
     if sp.get("du_star") is not None:
-        out.append(f"  capacity curve: d0* = {sp['d0_star']:.4g} m, du* = {sp['du_star']:.4g} m, "
-                   f"Ts = {sp['Ts']:.4g} s")
+        out.append(f"Capacity curve: d0* = {sp['d0_star'] * 1e3:.1f} mm, du* = {sp['du_star'] * 1e3:.1f} mm, "
+                   f"ds* = {sp['ds_star'] * 1e3:.1f} mm, as* = {sp['as_star']:.3f} m/s^2, Ts = {sp['Ts']:.3f} s.")
     elif a.get("curve_reason"):
-        out.append(f"  capacity curve: none ({a['curve_reason']})")
+        out.append(f"No capacity curve: {a['curve_reason']}.")
     c = a.get("check")
     if c:
         li = c["linear"]
-        out.append(f"  linear check: a0* {li['capacity']:.4f} vs {li['demand']:.4f} m/s^2, ratio {li['ratio']:.3f}: "
-                   + ("PASS" if li["pass"] else "FAIL"))
+        out.append(f"Linear check: a0* = {li['capacity']:.4f} against {li['demand']:.4f} m/s^2, ratio "
+                   f"{li['ratio']:.3f}: " + ("PASS" if li["pass"] else "FAIL") + ".")
         nl = c.get("nonlinear")
         if nl:
-            out.append(f"  nonlinear check: du* {nl['capacity']:.4g} vs SDe(Ts) {nl['demand']:.4g} m, ratio "
-                       f"{nl['ratio']:.3f}: " + ("PASS" if nl["pass"] else "FAIL"))
-    return "\n".join(out)
+            out.append(f"Nonlinear check: du* = {nl['capacity'] * 1e3:.1f} mm against SDe(Ts) = "
+                       f"{nl['demand'] * 1e3:.1f} mm, ratio {nl['ratio']:.3f}: " + ("PASS" if nl["pass"] else "FAIL") + ".")
+        else:
+            out.append(f"Nonlinear check: not made ({c.get('nonlinear_reason') or 'no capacity curve'}).")
+    return out
+
+
+def format_assessment(a: dict) -> str:
+    """Human lines of :func:`verdict`'s result."""
+    return "\n".join([f"{a['scene']}:"] + [f"  {s}" for s in verdict_lines(a)])

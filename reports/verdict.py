@@ -3,8 +3,7 @@ scene that states a seismic demand (its "demand" key; the check itself is the LA
 "verdict", limit.local_check), with the formulas and their sources."""
 from __future__ import annotations
 
-from limit.local_check import step_mechanism
-from limit.seismic_demand import G
+from limit.local_check import step_mechanism, verdict_lines
 
 #: (step, alpha, mechanism) of an LA result: one home, in the library
 la_mechanism = step_mechanism
@@ -46,30 +45,10 @@ def _demand_line(d: dict, fc: float) -> str:
 
 
 def scene_lines(name: str, dim: int, v: dict) -> list[str]:
-    """Markdown bullet lines of one scene's verdict (the LA result's "verdict")."""
+    """Markdown lines of one scene's verdict (the LA result's "verdict")."""
     if v.get("status") != "done":
         return [f"**{name}**: no check ({v.get('reason')})."]
-    q = v["linear"]
-    lines = [f"**{name}** ({dim}D; {_demand_line(v['demand'], q['fc'])}). Mechanism of the {v['step'].upper()}, "
-             f"alpha0 = {v['alpha0']:.4g}: M* = {q['M_star']:.4g} kg of {q['sum_P'] / G:.4g} kg moving, "
-             f"e* = {q['e_star']:.3f}, a0* = {q['a0_star']:.3f} m/s^2 = {q['a0_star_g']:.3f} g."]
-    sp = (v.get("curve") or {}).get("spectral") or {}
-    if sp.get("du_star") is not None:
-        lines.append(f"Capacity curve: d0* = {sp['d0_star'] * 1e3:.1f} mm, du* = {sp['du_star'] * 1e3:.1f} mm, "
-                     f"ds* = {sp['ds_star'] * 1e3:.1f} mm, as* = {sp['as_star']:.3f} m/s^2, Ts = {sp['Ts']:.3f} s.")
-    elif v.get("curve_reason"):
-        lines.append(f"No capacity curve: {v['curve_reason']}.")
-    c = v["check"]
-    li = c["linear"]
-    lines.append(f"Linear check: a0* = {li['capacity']:.3f} against {li['demand']:.3f} m/s^2, ratio "
-                 f"{li['ratio']:.2f}: **{'passes' if li['pass'] else 'fails'}**.")
-    nl = c.get("nonlinear")
-    if nl:
-        lines.append(f"Nonlinear check: du* = {nl['capacity'] * 1e3:.1f} mm against SDe(Ts) = {nl['demand'] * 1e3:.1f} "
-                     f"mm, ratio {nl['ratio']:.2f}: **{'passes' if nl['pass'] else 'fails'}**.")
-    else:
-        lines.append(f"Nonlinear check: not made ({c.get('nonlinear_reason') or 'no capacity curve'}).")
-    return lines
+    return [f"**{name}** ({dim}D; {_demand_line(v['demand'], v['linear']['fc'])})."] + verdict_lines(v)
 
 
 def worked_example(results: dict, by_name: dict) -> list[str]:
