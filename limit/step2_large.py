@@ -62,6 +62,10 @@ FAR_COMP = 1e-2
 #: 1,008 blocks)
 SNAP_RULES = ("support", "ratio")
 SNAP_FIRST = True
+#: LP backends of the snap's piece LPs, tried in turn until one gives a point that passes the
+#: check: at 3,052 blocks HiGHS failed both piece LPs ("Not Set", 25-35 s each) where Clarabel's
+#: interior point solved and verified the support rule's in 1.2 s
+SNAP_BACKENDS = ("clarabel", "highs")
 #: outer iterations (LPs) per start
 MAX_ITER = 100
 #: friction factors of the starts (1 = the associative LP itself)
@@ -138,10 +142,12 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray 
     return N.join(st.z[0], st.z[1:], kin.z[:nv], lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces"
 
 
-def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend="highs") -> dict:
-    """One start: iterate, check each LP point, snap near complementarity. Returns
+def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend=None) -> dict:
+    """One start: iterate, check each LP point, snap near complementarity (with the LP
+    ``backend`` of :mod:`limit.lpsub`, default each of :data:`SNAP_BACKENDS` in turn). Returns
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
     t0 = time.perf_counter()
+    backends = SNAP_BACKENDS if backend is None else (backend,)
     found: dict = {}
     snaps = [0]
     retry_below = [SNAP_COMP]
@@ -160,11 +166,12 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             relax.update(omega=relax["omega"] / 2.0, best_it=it)
         if comp < retry_below[0]:
             snaps[0] += 1
-            zf, ok, _, _, note = nlp.finish(N, z, alpha_ref, backend, polisher=snap, unpolished=False,
-                                            rules=SNAP_RULES, first=SNAP_FIRST)
-            if ok:
-                found.update(z=zf, how=note, it=it)
-                return True
+            for bk in backends:
+                zf, ok, _, _, note = nlp.finish(N, z, alpha_ref, bk, polisher=snap, unpolished=False,
+                                                rules=SNAP_RULES, first=SNAP_FIRST)
+                if ok:
+                    found.update(z=zf, how=f"{note}, {bk}", it=it)
+                    return True
             retry_below[0] = comp / 10.0
         return deadline is not None and time.perf_counter() > deadline
 
@@ -180,13 +187,17 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
 
 
 def _start_job(args) -> dict:
-    """One start in a worker process (top level, so that it pickles)."""
-    P, nstar0, alpha_ref, budget_s = args
-    deadline = None if budget_s is None else time.perf_counter() + budget_s
+    """One start in a worker process (top level, so that it pickles). ``deadline``: absolute
+    time.perf_counter() (CLOCK_MONOTONIC on Linux: the same clock in every process), so a start
+    that waited for a free worker gets only what is left of the run's budget."""
+    P, nstar0, alpha_ref, deadline = args
+    if deadline is not None and time.perf_counter() > deadline:
+        return {"verified": False, "not_run": True, "reason": "time budget spent", "z": None, "iterations": 0,
+                "snaps": 0, "time_s": 0.0}
     return run_start(P, build(P), nstar0, alpha_ref, deadline=deadline)
 
 
-def _run_parallel(P, plan, alpha_ref, time_budget, workers) -> list | None:
+def _run_parallel(P, plan, alpha_ref, deadline, workers) -> list | None:
     """Every start at once in ``workers`` processes; None when processes cannot be started
     here (e.g. inside a daemonic worker): the caller then runs them one after another."""
     import multiprocessing as mp
@@ -194,7 +205,7 @@ def _run_parallel(P, plan, alpha_ref, time_budget, workers) -> list | None:
 
     try:
         with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork")) as ex:
-            return list(ex.map(_start_job, [(P, n0, alpha_ref, time_budget) for _, n0 in plan]))
+            return list(ex.map(_start_job, [(P, n0, alpha_ref, deadline) for _, n0 in plan]))
     except (OSError, AssertionError, RuntimeError):
         return None
 
@@ -217,8 +228,7 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS, wo
     workers = min(len(plan), workers or os.cpu_count() or 1)
     results = None
     if workers > 1:
-        left = None if deadline is None else max(deadline - time.perf_counter(), 0.0)
-        results = _run_parallel(P, plan, alpha_ref, left, workers)
+        results = _run_parallel(P, plan, alpha_ref, deadline, workers)
     if results is None:
         workers, results = 1, []
         for label, nstar0 in plan:
