@@ -27,11 +27,12 @@ When the associative LP is unbounded (sliding needs dilatancy, e.g. a block
 wedged between two fixed surfaces), the first N* comes from an equilibrium of
 the dead load alone (alpha = 0).
 
-Measured (2D running-bond walls, mu 0.9, bench/step2_large_bench.py): 1,008 blocks,
-three starts on two cores, 0.341463 verified by all three in 17.0 / 18.3 / 18.0 s
-(41.8 s before the loose early LPs, :data:`LP_TOL_FAR`, and the first-passing snap,
-:data:`SNAP_FIRST`); ``limit solve`` on it 19.0 s end to end. Not reached: 3,052
-blocks (100 LPs, 4 failed snaps, 337 s for one start).
+Measured (running-bond walls, mu 0.9, bench/step2_large_bench.py, 2 cores): 2D 1,008
+blocks, three starts, 0.341463 verified by all three in 9.6 s (median of 3; 41.8 s before
+the loose early LPs :data:`LP_TOL_FAR`, the first-passing snap :data:`SNAP_FIRST` and
+Clarabel for the snap :data:`SNAP_BACKENDS`). 2D 3,052 blocks: the LP's start verified
+0.337984 in 58 s (41 LPs); the 0.5 mu start had not verified after 11 minutes. 3D 1,017
+blocks: 0.553388 best, 0.561118 worst, starts of 70, 38 and 28 s.
 """
 from __future__ import annotations
 
