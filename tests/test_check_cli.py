@@ -90,3 +90,15 @@ def test_the_nonlinear_check_above_ground_says_why_it_is_not_made(tmp_path):
     assert main(["solve", _write(tmp_path, data), "--json", str(out)]) == 0
     c = json.loads(out.read_text())["verdict"]["check"]
     assert c["nonlinear"] is None and "above ground" in c["nonlinear_reason"]
+
+
+def test_check_without_options_uses_the_scene_s_own_demand(tmp_path, capsys):
+    """A scene stating ag = 0.5 g, S = 1.5 (demand 0.5 9.81 1.5 / 2 = 3.679 m/s^2): ``limit check``
+    with no spectrum option reports that check (the 0.3 x 1 block fails it, ratio 0.593)."""
+    f = _write(tmp_path, dict(B.single_block(2, 0.3, 1.0, mu=0.8), demand={"ag_g": 0.5, "S": 1.5}))
+    out = tmp_path / "a.json"
+    assert main(["check", f, "--json", str(out)]) == 0
+    li = json.loads(out.read_text())["check"]["linear"]
+    assert li["demand"] == pytest.approx(0.5 * 9.81 * 1.5 / 2) and li["pass"] is False
+    assert li["ratio"] == pytest.approx((0.3 * 9.81 / 1.35) / (0.5 * 9.81 * 1.5 / 2), rel=1e-6)
+    assert "FAIL" in capsys.readouterr().out
