@@ -136,18 +136,18 @@ class Chain:
     def matrix(self) -> np.ndarray:
         """(equations, nd n_free) joint equations at the current configuration."""
         d, nd, m = self.d, self.nd, len(self.rows)
-        if not hasattr(self, "_rows"):  # the rows as arrays, once
-            self._rows = (np.array([r[1] for r in self.rows], dtype=int), np.array([r[2] for r in self.rows], dtype=int),
-                          np.array([r[3] for r in self.rows], dtype=float).reshape(m, d),
-                          np.array([r[4] for r in self.rows], dtype=float).reshape(m, d))
-        a, b, rp, dv = self._rows
+        if not hasattr(self, "_rows"):  # the rows as arrays, once (the joints do not change)
+            a, b = (np.array([r[k] for r in self.rows], dtype=int) for k in (1, 2))
+            col = {i: np.array([self.col.get(int(x), -1) for x in blk]) for i, blk in (("a", a), ("b", b))}
+            self._rows = (a, b, np.array([r[3] for r in self.rows], dtype=float).reshape(m, d),
+                          np.array([r[4] for r in self.rows], dtype=float).reshape(m, d), col["a"], col["b"])
+        a, b, rp, dv, col_a, col_b = self._rows
         Ra = self.R[a]
         p = self.c[a] + np.einsum("kij,kj->ki", Ra, rp)
         e = np.einsum("kij,kj->ki", Ra, dv)
         A = np.zeros((m, nd * len(self.free)))
         rows = np.arange(m)
-        for blk, sgn in ((b, 1.0), (a, -1.0)):
-            col = np.array([self.col.get(int(i), -1) for i in blk])
+        for blk, col, sgn in ((b, col_b, 1.0), (a, col_a, -1.0)):
             on = col >= 0
             if not on.any():
                 continue

@@ -67,8 +67,9 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     "min_alpha" (LP), "min_nlp" (the analysis at the minimum: "lp", "nlp" (step 2 where it
     applies) and "verdict" (the code check there, for a scene with a demand), or None),
     "time_s", "lp_time_s" (summed over directions), "jobs", "mirror", "solved" (directions
-    solved)}. ``progress(done, total)`` is called as directions finish. ``mirror`` None: as the scene declares (``"symmetry":
-    "mirror"``); a mirror symmetry, declared or asked for, is checked first
+    solved)}. ``progress(done, total)`` is called as directions finish. ``mirror`` None: as
+    the scene declares (``"symmetry": "mirror"``); a mirror symmetry, declared or asked for,
+    is checked first
     (:func:`limit.symmetry.check_mirror`: ValueError naming a block without its image)."""
     if data.get("dim") != 3:
         raise ValueError("dim: the direction sweep is for 3D scenes (a 2D scene's load direction is +/- x)")
@@ -87,15 +88,18 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     todo = [t for t in thetas if t <= 180.0 + 1e-9] if mirror else list(thetas)
     jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo)))
     got = {}
-    for t in todo[:2]:  # in this process: the second times one direction (the first pays the imports)
-        th, st, a, dt = _lp_alpha((data, float(t)))
+
+    def record(out):
+        th, st, a, dt = out
         got[th] = (st, a, dt)
         if progress:
             progress(len(got), len(todo))
+        return dt
+
+    for t in todo[:2]:  # in this process: the second times one direction (the first pays the imports)
+        dt = record(_lp_alpha((data, float(t))))
     rest = todo[2:]
     parallel = bool(scheduler) or (bool(rest) and jobs > 1 and dt * len(rest) * (1.0 - 1.0 / jobs) > DASK_START_S)
-    if not parallel:
-        jobs = 1
     if parallel:
         from dask.distributed import as_completed
 
@@ -103,16 +107,11 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
 
         with dask_client(jobs, scheduler) as client:
             for f in as_completed(client.map(_lp_alpha, [(data, float(t)) for t in rest], pure=False)):
-                th, st, a, dt = f.result()
-                got[th] = (st, a, dt)
-                if progress:
-                    progress(len(got), len(todo))
+                record(f.result())
     else:
+        jobs = 1
         for t in rest:
-            th, st, a, dt = _lp_alpha((data, float(t)))
-            got[th] = (st, a, dt)
-            if progress:
-                progress(len(got), len(todo))
+            record(_lp_alpha((data, float(t))))
     status, alpha = [], []
     for t in thetas:
         src = t if t in got else (360.0 - t) % 360.0  # mirrored
@@ -120,10 +119,11 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         status.append(st)
         alpha.append(a if st == "optimal" and a is not None else float("nan"))
     alpha = np.array(alpha, dtype=float)
+    out = {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": None, "min_alpha": None,
+           "min_nlp": None, "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs, "mirror": bool(mirror),
+           "solved": len(todo)}
     if not np.isfinite(alpha).any():
-        return {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": None,
-                "min_alpha": None, "min_nlp": None, "time_s": time.perf_counter() - t0,
-                "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs}
+        return {**out, "time_s": time.perf_counter() - t0}
     k = int(np.nanargmin(alpha))
     at_min = None
     if frictional:
@@ -132,7 +132,5 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
 
         r = public(analyse(load_scene(_turn(data, float(thetas[k]), verdict=True)), method="auto"))
         at_min = {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}
-    return {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": float(thetas[k]),
-            "min_alpha": float(alpha[k]), "min_nlp": at_min, "time_s": time.perf_counter() - t0,
-            "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs, "mirror": bool(mirror),
-            "solved": len(todo)}
+    return {**out, "min_theta": float(thetas[k]), "min_alpha": float(alpha[k]), "min_nlp": at_min,
+            "time_s": time.perf_counter() - t0}

@@ -5,7 +5,7 @@ and the verdict against a demand (:mod:`limit.seismic_demand`)."""
 from __future__ import annotations
 
 from .kinematic_check import FC_DEFAULT
-from .seismic_demand import Demand, check
+from .seismic_demand import G, Demand, check
 
 
 def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
@@ -63,7 +63,7 @@ def verdict_lines(a: dict) -> list[str]:
     wording for ``limit check`` and the report."""
     q = a["linear"]
     out = [f"Mechanism of the {a['step'].upper()}, alpha0 = {a['alpha0']:.6g}: M* = {q['M_star']:.6g} kg"
-           + (f" of {q['sum_P'] / 9.81:.4g} kg moving" if "sum_P" in q else "")
+           + (f" of {q['sum_P'] / G:.4g} kg moving" if "sum_P" in q else "")
            + f", e* = {q['e_star']:.4f}, a0* = {q['a0_star']:.4f} m/s^2 = {q['a0_star_g']:.4f} g (FC = {q['fc']:g})."]
     sp = (a.get("curve") or {}).get("spectral") or {}
     if sp.get("du_star") is not None:

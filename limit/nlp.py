@@ -243,9 +243,10 @@ def finish(N, z, alpha_lp, backend, polisher=None, unpolished: bool = True, rule
     for rule in rules:
         zp, note = (polisher or polish)(N, z, backend=backend, rule=rule)
         if zp is not None:
-            if first and check(N, zp, alpha_lp)[0]:
-                ok, res, why = check(N, zp, alpha_lp)
-                return zp, True, res, "", note
+            if first:
+                ok, res, _ = check(N, zp, alpha_lp)
+                if ok:
+                    return zp, True, res, "", note
             cands.append((zp, note))
     cands.sort(key=lambda c: c[0][N.ia])
     if unpolished:

@@ -33,6 +33,11 @@ def mirror_plane(scene) -> tuple[np.ndarray, np.ndarray]:
     return c, n / np.linalg.norm(n)
 
 
+def _mirror(p: np.ndarray, c: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """Points p (k, 3) mirrored about the plane through c with unit normal n."""
+    return p - 2.0 * ((p - c) @ n)[:, None] * n
+
+
 def check_mirror(scene) -> None:
     """Raise ValueError naming the block farthest from having a mirror partner (module docstring)."""
     c, n = mirror_plane(scene)
@@ -40,12 +45,11 @@ def check_mirror(scene) -> None:
     vol = np.array([b.volume for b in scene.blocks], dtype=float)
     fixed = np.array([b.fixed for b in scene.blocks])
     size = float(np.linalg.norm(np.ptp(cen, axis=0))) or 1.0
-    mirrored = cen - 2.0 * ((cen - c) @ n)[:, None] * n
+    mirrored = _mirror(cen, c, n)
     tol = TOL * size
 
     def same_shape(i, j) -> bool:  # block i's mirrored corners are block j's
-        vi = np.asarray(scene.blocks[i].poly.vertices, float)
-        vi = vi - 2.0 * ((vi - c) @ n)[:, None] * n
+        vi = _mirror(np.asarray(scene.blocks[i].poly.vertices, float), c, n)
         vj = np.asarray(scene.blocks[j].poly.vertices, float)
         if len(vi) != len(vj):
             return False
@@ -68,7 +72,7 @@ def check_mirror(scene) -> None:
 
     I = find_interfaces(scene)
     ic = np.asarray(I.centroid, float)
-    im = ic - 2.0 * ((ic - c) @ n)[:, None] * n
+    im = _mirror(ic, c, n)
     area = np.asarray(I.area, float)
     for k in range(len(I)):
         dist = np.linalg.norm(ic - im[k], axis=1)

@@ -53,15 +53,11 @@ def scene_lines(name: str, dim: int, v: dict) -> list[str]:
 
 def worked_example(results: dict, by_name: dict) -> list[str]:
     """Markdown lines of the verdicts of the scenes stating a demand (empty without any)."""
-    import json
-
     out = []
-    for name, src in by_name.items():
-        v = (results.get((name, "la")) or {}).get("verdict")
-        if not v:
-            continue
-        dim = src.get("dim") if isinstance(src, dict) else json.loads(open(src).read()).get("dim")
-        out += [f"- {s}" for s in scene_lines(name, dim, v)] + [""]
+    for name in by_name:
+        la = results.get((name, "la")) or {}
+        if la.get("verdict"):
+            out += [f"- {s}" for s in scene_lines(name, la.get("dim"), la["verdict"])] + [""]
     if not out:
         return []
     return ["## Engineering verdict: the code check of the local mechanism", "",
