@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 from .cache import DEFAULT_DIR, Cache, key
-from .stages import STAGES
+from .stages import STAGES, guess_from
 
 OUT = Path(__file__).resolve().parent / "out"
 
@@ -88,15 +88,23 @@ def stage_cost(stage: str, data: dict) -> float:
     return (0.1 if data.get("dim") == 2 else 0.5) * n_free
 
 
-def _run_task(stage, data, opts):
+def _run_task(stage, data, opts, la=None):
+    """One stage; ``la``: the scene's ``la`` result, whose alpha is the LMGC90 search's guess."""
+    if la is not None:
+        opts = {**opts, "hint": guess_from(la)}
     return STAGES[stage][1](data, opts)
 
 
-def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progress=True) -> dict:
-    """Run the stages through Dask; store each result in the cache as it arrives."""
+def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progress=True,
+            known: dict | None = None) -> dict:
+    """Run the stages through Dask; store each result in the cache as it arrives. A scene's
+    LMGC90 stage takes its first guess from the scene's ``la`` result: a cached one in
+    ``known`` ((name, stage) -> result), else it waits for that stage (started at once if
+    not yet)."""
     results = {}
     if not todo:
         return results
+    known = known or {}
     from dask.distributed import as_completed
     from tqdm import tqdm
 
@@ -109,18 +117,40 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
         # 5-minute Fig. 5 and fountain YADE stages to start 20 minutes in (tasks go straight to a
         # worker unless Dask deems them root-ish), and the run ended 2 minutes later than its CPU
         # time allows.
-        order = iter(sorted(todo, key=lambda t: -stage_cost(t[0], t[3])))
+        queue = sorted(todo, key=lambda t: -stage_cost(t[0], t[3]))
         slots = max(1, sum(client.nthreads().values()))
+        la_futures = {}
 
-        def submit_next(ac=None):
-            nxt = next(order, None)
-            if nxt is None:
-                return
-            stage, name, k, data, opts = nxt
-            f = client.submit(_run_task, stage, data, opts, key=f"{stage}-{name}-{k}", pure=False)
+        def submit(task, ac, la=None):
+            stage, name, k, data, opts = task
+            f = client.submit(_run_task, stage, data, opts, la, key=f"{stage}-{name}-{k}", pure=False)
             futures[f] = (stage, name, k)
+            if stage == "la":
+                la_futures[name] = f
             if ac is not None:
                 ac.add(f)
+            return f
+
+        def submit_next(ac=None):
+            if not queue:
+                return
+            task = queue.pop(0)
+            stage, name = task[0], task[1]
+            if stage != "lmgc" or not task[4].get("run"):
+                submit(task, ac)
+                return
+            la = known.get((name, "la"))
+            if la is not None:
+                submit(task, ac, la={"lp": la.get("lp"), "nlp": la.get("nlp")})
+                return
+            if name not in la_futures:
+                own = next((t for t in queue if t[0] == "la" and t[1] == name), None)
+                if own is None:  # no la stage in this run: the LMGC90 stage makes its own guess
+                    submit(task, ac)
+                    return
+                queue.remove(own)
+                submit(own, ac)
+            submit(task, ac, la=la_futures[name])
 
         for _ in range(slots):
             submit_next()
@@ -183,7 +213,7 @@ def main(argv=None) -> int:
     done, todo = plan(files, stages, cache, args.fresh, lmgc_all=args.lmgc_all)
     print(f"validate: {len(files)} scenes, {len(done)} stage results cached, {len(todo)} to run", file=sys.stderr)
     try:
-        done.update(execute(todo, cache, args.jobs, args.scheduler, progress=not args.no_progress))
+        done.update(execute(todo, cache, args.jobs, args.scheduler, progress=not args.no_progress, known=done))
     except KeyboardInterrupt:
         print("validate: interrupted; finished stages are cached, rerun to resume", file=sys.stderr)
         return 130

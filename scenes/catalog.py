@@ -16,23 +16,23 @@ from .closed_forms import arch_reference
 
 CATALOG_DIR = Path(__file__).resolve().parent / "catalog"
 
-#: measured cost (CPU s) of each scene's YADE stage and LMGC90 stage, fresh-clone ``make validate``
-#: on this project's 2-core machine (2026-11-26, main at cf9f506): the validation starts the
-#: costliest stages first, and leaves LMGC90 above reports.stages.LMGC_BUDGET_S to ``--lmgc-all``
-#: (the five above 60 s: one run each, the other core busy; the rest from the validation). Written to meta.dem.cost_s and
-#: meta.lmgc.cost_s.
+#: measured cost (CPU s) of each scene's YADE stage and LMGC90 stage on this project's 2-core
+#: machine, for the validation to start the costliest stages first; written to meta.dem.cost_s
+#: and meta.lmgc.cost_s. YADE: fresh-clone ``make validate`` (2026-11-26, main at cf9f506; the
+#: five above 60 s one run each, the other core busy). LMGC90: one run each, two at a time,
+#: searching from the frictional alpha (2026-11-26, the search of main after af4bba8).
 DEM_COST_S = {"paper-fig2b-double-arch-2d": 689, "paper-fig3-opus-poligonale-70-2d": 426,
               "paper-fig6-intersecting-walls-3d": 309, "paper-fig5-trilithic-3d": 295,
               "paper-fig7-fountain-full-3d": 277, "paper-fig3-opus-poligonale-40-2d": 236, "corner-walls-3d": 119,
               "paper-fig7-fountain-half-3d": 108, "paper-fig4-opus-africanum-2d": 81, "wall-6x5-3d": 63,
               "wall-out-of-plane-3d": 62, "ferris-tinloi-wall-2d": 57, "paper-fig3-opus-poligonale-25-2d": 51,
               "arch-semicircular-27-2d": 19, "paper-fig2a-double-arch-2d": 18, "wall-4x4-tilting-2d": 14}
-LMGC_COST_S = {"paper-fig3-opus-poligonale-70-2d": 343.0, "paper-fig3-opus-poligonale-40-2d": 105.0,
-               "paper-fig2b-double-arch-2d": 93.0, "ferris-tinloi-wall-2d": 69.0,
-               "paper-fig4-opus-africanum-2d": 63.0, "paper-fig6-intersecting-walls-3d": 59,
-               "wall-6x5-3d": 55, "corner-walls-3d": 50, "paper-fig3-opus-poligonale-25-2d": 45,
-               "wall-out-of-plane-3d": 35, "paper-fig7-fountain-full-3d": 32, "wall-4x4-tilting-2d": 15,
-               "paper-fig5-trilithic-3d": 13, "arch-semicircular-27-2d": 13}
+LMGC_COST_S = {"paper-fig3-opus-poligonale-70-2d": 190.0, "paper-fig3-opus-poligonale-40-2d": 61.0,
+               "paper-fig2b-double-arch-2d": 58.0, "ferris-tinloi-wall-2d": 43.0, "corner-walls-3d": 40.0,
+               "wall-6x5-3d": 35.0, "paper-fig4-opus-africanum-2d": 28.0, "paper-fig6-intersecting-walls-3d": 28.0,
+               "wall-out-of-plane-3d": 20.0, "paper-fig3-opus-poligonale-25-2d": 16.0,
+               "paper-fig7-fountain-full-3d": 13.0, "arch-semicircular-27-2d": 11.0, "wall-4x4-tilting-2d": 11.0,
+               "paper-fig5-trilithic-3d": 9.0}
 
 
 #: the report's worked example of the code check (reports/verdict.py): an illustrative site with

@@ -127,9 +127,10 @@ def test_a_fortran_stop_is_failed_not_a_crash(tmp_path):
 
 
 def test_a_run_over_its_time_limit_is_failed():
-    """A hold of 1,000 s that never ends at rest (v_rest = 1e-30 m/s) meets a 3 s limit."""
+    """A hold of 1,000 s that cannot end at rest (rest is looked for only after t_rest = 1,000 s)
+    meets a 3 s limit."""
     dem = run_scene(B.single_block(2, 0.3, 1.0, mu=0.8), engine="lmgc90", timeout_s=3.0, t_hold=1000.0,
-                    v_rest=1e-30)
+                    t_rest=1000.0)
     assert dem["status"] == "failed" and "timed out" in dem["reason"]
 
 
@@ -197,17 +198,33 @@ def test_search_brackets_the_collapse_load(crit):
     assert seen[0] == 0.0 and len(seen) < 30
 
 
-@pytest.mark.parametrize("hint", [0.3, 0.25, 0.5, 0.01])
+@pytest.mark.parametrize("hint", [0.3, 0.25, 0.5, 0.01, 3.0])
 def test_a_guess_saves_trials_but_never_sets_the_bracket(hint):
-    """The true value 0.3: a good guess brackets it in 3 trials plus the bisection, a
-    wrong one (too low or too high) still ends with the trials' own bracket."""
+    """The true value 0.3: a good guess brackets it in 2 trials plus the bisection (a 4 %
+    bracket halved three times is within alpha_rtol = 0.5 %), and no alpha = 0 trial is
+    needed since a stable one carried the dead load; a wrong guess (too low or too high)
+    still ends with the trials' own bracket. The alpha = 0 trial runs only when every
+    trial down from the guess collapsed."""
     p = knobs({})
     trial, seen = _fake(0.3)
     run = search(trial, p, hint=hint)
     assert run["alpha_lo"] <= 0.3 < run["alpha_hi"]
     assert run["alpha_hi"] - run["alpha_lo"] <= p["alpha_rtol"] * run["alpha_hi"]
+    assert (0.0 in seen) == (hint == 3.0)  # 3.0: down to 0.38 x 3 > 0.3, then alpha = 0
     if hint == 0.3:
-        assert seen[1:3] == [pytest.approx(0.294), pytest.approx(0.306)] and len(seen) <= 9
+        assert seen[:2] == [pytest.approx(0.294), pytest.approx(0.306)] and len(seen) == 5
+    if hint == 0.25:  # 0.245, 0.255, 0.265, 0.285, 0.325: bracketed in five
+        assert seen[4] == pytest.approx(0.325) and 0.285 <= run["alpha_lo"]
+
+
+def test_a_guess_that_collapses_all_the_way_down_checks_the_dead_load():
+    """When every trial down from the guess collapses (0.98, 0.94, 0.86, 0.70, 0.38 x it),
+    the alpha = 0 trial tells a dead-load collapse."""
+    p = knobs({})
+    trial, seen = _fake(1.0, dead=True)
+    run = search(trial, p, hint=0.3)
+    assert run["dead_load_collapse"] and run["alpha"] is None
+    assert seen == [pytest.approx(f * 0.3) for f in (0.98, 0.94, 0.86, 0.70, 0.38)] + [0.0]
 
 
 def test_search_reports_a_dead_load_collapse_and_a_stable_scene():
@@ -234,9 +251,34 @@ def test_validate_stage_table_and_report(tmp_path):
     path.write_text(json.dumps(data))
     res = run_lmgc(str(path), lmgc_options(data))
     assert res["status"] == "collapsed" and res["alpha"] == pytest.approx(0.3, rel=RTOL)
-    assert res["history"][1]["alpha"] == pytest.approx(0.98 * 0.3)
+    assert res["history"][0]["alpha"] == pytest.approx(0.98 * 0.3)
     r = row(path, run_la(str(path), la_options(data)), None, res)
     assert r["lmgc_alpha"] == res["alpha"] and abs(r["lmgc_vs_la"]) < RTOL
     assert r["lmgc_similarity"] > 0.95
     lines = lmgc_lines(r)
     assert "LMGC90" in lines[0] and f"{res['alpha']:.4g}" in lines[0] and "similarity" in lines[1]
+
+
+def test_the_validation_run_passes_the_limit_analysis_to_the_lmgc90_search(tmp_path):
+    """In the validation run the LMGC90 search's first trial is 0.98 x the scene's ``la``
+    alpha: a cached one (here a made-up 0.25, so the path is told apart from the LMGC90
+    stage's own guess), or the ``la`` stage of the same run (0.3 = b/h for the 0.3 x 1
+    block). Either way the bracket is the trials' own: it holds b/h = 0.3."""
+    import json
+
+    from reports.cache import Cache
+    from reports.validate import execute, plan
+
+    data = B.single_block(2, 0.3, 1.0, mu=0.8, name="guess-block")
+    path = tmp_path / "guess-block.json"
+    path.write_text(json.dumps(data))
+    cache = Cache(tmp_path / "cache")
+    _, todo = plan([path], ["lmgc"], cache, fresh=True)
+    known = {("guess-block", "la"): {"lp": {"status": "optimal", "alpha": 0.25}}}
+    res = execute(todo, cache, 1, None, progress=False, known=known)[("guess-block", "lmgc")]
+    assert res["history"][0]["alpha"] == pytest.approx(0.98 * 0.25)
+    assert res["runs"][0]["alpha_lo"] <= 0.3 * (1 + 1e-9) and 0.3 < res["runs"][0]["alpha_hi"]
+    _, todo = plan([path], ["la", "lmgc"], cache, fresh=True)
+    out = execute(todo, cache, 1, None, progress=False)
+    assert out[("guess-block", "la")]["lp"]["alpha"] == pytest.approx(0.3, rel=1e-6)
+    assert out[("guess-block", "lmgc")]["history"][0]["alpha"] == pytest.approx(0.98 * 0.3, rel=1e-6)
