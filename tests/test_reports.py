@@ -413,3 +413,24 @@ def test_sweep_stage_and_its_report_section(tmp_path):
     assert "minimum LP alpha 0.3 at" in text and "![worst load direction of sq](figures/sq-sweep.png)" in text
     assert (figs / "sq-sweep.png").stat().st_size > 0 and (figs / "sq-sweep-mechanism.png").stat().st_size > 0
     assert worst_direction.section({}, {"sq": path}, figs) == []
+
+
+def test_lmgc_creep_is_a_held_trial_that_never_came_to_rest(tmp_path):
+    """``lmgc_creep`` flags an LMGC90 run with a trial that held without coming to rest (any
+    trial: a search from a guess has no alpha = 0 trial), and only that."""
+    import json
+
+    from reports.table import row
+    from scenes import builders as B
+
+    data = B.single_block(2, 0.3, 1.0, mu=0.8)
+    path = tmp_path / "block.json"
+    path.write_text(json.dumps(data))
+    la = {"lp": {"status": "optimal", "alpha": 0.3}, "nlp": {"status": "skipped", "alpha": 0.3}}
+
+    def lm(rest):
+        return {"status": "collapsed", "alpha": 0.3, "history": [
+            {"phase": "load", "alpha": 0.29, "outcome": "stable", "rest": rest},
+            {"phase": "load", "alpha": 0.31, "outcome": "collapse", "rest": False}]}
+    assert row(path, la, None, lm(False))["lmgc_creep"] is True
+    assert row(path, la, None, lm(True))["lmgc_creep"] is False
