@@ -79,7 +79,7 @@ TARGET_KNOBS: dict = {}
 def limit_alphas(scene_dict) -> dict:
     """LP and NLP (frictional) alpha of a scene, from the project's limit analysis."""
     from limit.analysis import analyse
-    from limit.scene import load_scene
+    from limit.model.scene import load_scene
 
     res = analyse(load_scene(scene_dict), method="nlp")
     return {"alpha_lp": res["lp"]["alpha"], "alpha_nlp": res["nlp"]["alpha"], "nlp_status": res["nlp"]["status"]}

@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from dem_validation import run_scene
-from limit.scene import load_scene
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 from .common import machine, out_dir

@@ -5,8 +5,8 @@ import math
 
 import pandas as pd
 
-from limit.interfaces import find_interfaces
-from limit.scene import load_scene
+from limit.geom.interfaces import find_interfaces
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 from .common import out_dir, timed

@@ -14,11 +14,10 @@ import time
 import numpy as np
 import pandas as pd
 
-from limit import lp as lpmod
-from limit import verify
-from limit.assemble import assemble
-from limit.interfaces import find_interfaces
-from limit.scene import load_scene
+from limit.solve import lp as lpmod, verify
+from limit.model.assemble import assemble
+from limit.geom.interfaces import find_interfaces
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 from .common import machine, out_dir
@@ -134,7 +133,7 @@ def plot(df, path):
 def summary(df, path):
     m = machine()
     lines = [f"# LP benchmark ({m['cpus']} CPUs, Python {m['python']})", "",
-             f"Default solver 'auto': the structured interior point method (limit/ipm.py) from "
+             f"Default solver 'auto': the structured interior point method (limit/solve/ipm.py) from "
              f"{lpmod.AUTO_IPM_MIN_DOF} block unknowns on, Clarabel (qdldl, tolerances 1e-10) below.", ""]
     for dim, n in ((2, 10000), (3, 3000)):
         r = df[(df.dim == dim) & (df.solver == "auto")]

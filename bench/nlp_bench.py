@@ -19,11 +19,12 @@ import pandas as pd
 import scipy.sparse as sp
 from scipy.optimize import LinearConstraint, NonlinearConstraint, minimize
 
-from limit import milp, nlp, step2
+from limit import step2
+from limit.solve import milp, nlp
 from limit.analysis import solve_lp
-from limit.assemble import assemble
-from limit.nlp_problem import build
-from limit.scene import load_scene
+from limit.model.assemble import assemble
+from limit.solve.nlp_problem import build
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 from .common import machine, out_dir

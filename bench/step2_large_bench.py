@@ -1,4 +1,4 @@
-"""Step 2 at scale: the large-scale route (limit/step2_large.py) on running-bond walls.
+"""Step 2 at scale: the large-scale route (limit/solve/step2_large.py) on running-bond walls.
 
 1. 2D walls (0.4 x 0.3 m blocks, mu 0.9, horizontal body force) of 30 to 10,000
    blocks and 3D walls of up to 3,000: LP alpha, the route's verified alpha (best and
@@ -16,10 +16,11 @@ import time
 
 import pandas as pd
 
-from limit import nlp, step2, step2_large
+from limit import step2
+from limit.solve import nlp, step2_large
 from limit.analysis import solve_lp
-from limit.assemble import assemble
-from limit.scene import load_scene
+from limit.model.assemble import assemble
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 from .common import machine, out_dir

@@ -38,7 +38,7 @@ from .runner import failed, run_job
 
 def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None, yade: str | None = None,
               keep_dir: bool = False, contact: str = "vertex", engine: str = "yade", **knobs) -> dict:
-    """DEM pushover of a scene (a :class:`limit.scene.Scene`, a scene dict or a path).
+    """DEM pushover of a scene (a :class:`limit.model.scene.Scene`, a scene dict or a path).
 
     ``engine``: ``yade`` (compliant contacts, extrapolated to rigid ones; the default)
     or ``lmgc90`` (rigid contacts, non-smooth contact dynamics: :mod:`dem_validation.lmgc`,
@@ -54,7 +54,7 @@ def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None,
     Raises :class:`limit.errors.SceneError` for a rejected scene; every DEM fault
     is returned as ``{"status": "failed", "reason": ...}``.
     """
-    from limit.scene import Scene, load_scene
+    from limit.model.scene import Scene, load_scene
 
     if engine not in ("yade", "lmgc90"):
         raise ValueError(f"engine: expected yade or lmgc90, got {engine!r}")
@@ -74,8 +74,8 @@ def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None,
 def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep_dir=False, interfaces=None,
                contact="vertex") -> dict:
     """run_scene for a loaded scene and checked knobs ``p``."""
-    from limit.interfaces import find_interfaces
-    from limit.loads import dead_and_live
+    from limit.geom.interfaces import find_interfaces
+    from limit.model.loads import dead_and_live
 
     t0 = time.monotonic()
     used = {k: (list(v) if isinstance(v, (list, tuple)) else v) for k, v in p.items()}

@@ -94,8 +94,8 @@ def summary(result: dict) -> str:
 
 def cmd_run(args) -> int:
     from limit import jsonio
-    from limit.interfaces import find_interfaces
-    from limit.scene import load_scene
+    from limit.geom.interfaces import find_interfaces
+    from limit.model.scene import load_scene
 
     from .api import run_loaded
 

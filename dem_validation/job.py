@@ -7,9 +7,9 @@ loads, interfaces), so the YADE side needs no project package:
   (world coordinates, m, always 3D: a 2D polygon becomes the prism z in [0, t]).
 * ``f0``, ``fL``: per free block (scene order) the dead and live generalised
   force ``[Fx, Fy, Fz, Mx, My, Mz]`` at its centroid in global axes (N, N m),
-  from :func:`limit.loads.dead_and_live` (2D ``[Fx, Fy, Mz]`` padded with zeros).
+  from :func:`limit.model.loads.dead_and_live` (2D ``[Fx, Fy, Mz]`` padded with zeros).
 * ``interfaces``: ``[i, j, area]`` (m^2, 2D: length x thickness) of every
-  contact found by :func:`limit.interfaces.find_interfaces`;
+  contact found by :func:`limit.geom.interfaces.find_interfaces`;
   ``friction`` (default mu) and ``friction_pairs`` ``[i, j, mu]`` (overrides).
 * ``rho_g`` (N/m^3): rho |g| with rho the mass-weighted mean density of the
   free blocks; the YADE side sets the volumetric normal stiffness
@@ -109,10 +109,10 @@ def radius_at(law: dict, eps: float) -> float:
 def expected_point_force(scene, interfaces, f0, fL) -> float:
     """Largest expected force on one contact point (N): the largest interface normal force
     estimated by carrying every block's dead plus live load down to its supports
-    (:func:`limit.scaling.normal_force_estimate`), over the points of a hinge: at a hinge
+    (:func:`limit.model.scaling.normal_force_estimate`), over the points of a hinge: at a hinge
     an interface's force sits on the two points of its hinge edge in 3D, on one point in 2D
     (one sphere per corner, :func:`sphere_anchors`)."""
-    from limit.scaling import normal_force_estimate
+    from limit.model.scaling import normal_force_estimate
 
     if not len(interfaces):
         return 0.0

@@ -17,11 +17,11 @@ from .runner import failed, run_job
 
 def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep_dir=False,
                       interfaces=None, hint: float | None = None) -> dict:
-    """LMGC90 pushover of a loaded :class:`limit.scene.Scene`; every fault is a failed dict.
+    """LMGC90 pushover of a loaded :class:`limit.model.scene.Scene`; every fault is a failed dict.
     ``hint``: a guessed alpha (the limit analysis's) to start the bracket from; it saves
     trials, it does not enter the result."""
-    from limit.interfaces import find_interfaces
-    from limit.loads import dead_and_live
+    from limit.geom.interfaces import find_interfaces
+    from limit.model.loads import dead_and_live
 
     t0 = time.monotonic()
     p = check_knobs(knobs)

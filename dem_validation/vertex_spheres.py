@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from limit.geometry import polyhedron
+from limit.geom.geometry import polyhedron
 
 
 #: the recess of the upward side of a joint (in units of r), and the jitter's size

@@ -1,8 +1,11 @@
 """Limit analysis of rigid block assemblies with no-tension, frictional joints.
 
-Data flows one way: scene file -> :mod:`limit.scene` (validated blocks) ->
-:mod:`limit.interfaces` (contacts found from the geometry) -> :mod:`limit.loads`
-and :mod:`limit.kinematics` (matrices) -> solvers -> results.
+Data flows one way, through one subpackage per job: the scene file ->
+:mod:`limit.model.scene` (validated blocks) -> :mod:`limit.geom` (interfaces found from the
+geometry) -> :mod:`limit.model` (loads, kinematics, yield domain, assembled LP data) ->
+:mod:`limit.solve` (step 1 and step 2, each answer checked) -> :mod:`limit.results` ->
+:mod:`limit.verdict` (the code check, when the scene states a demand). :mod:`limit.analysis`
+runs the whole chain; :mod:`limit.api` wraps it in typed results.
 
 The public API::
 
@@ -18,8 +21,8 @@ The public API::
 
 __version__ = "0.1.0"
 
-from .api import Options, Result, StepResult, analyse, load_scene  # noqa: E402
-from .errors import SceneError, SceneWarning, SolverError  # noqa: E402
+from limit.api import CodeCheck, Options, Result, StepResult, Verdict, analyse, load_scene  # noqa: E402
+from limit.errors import SceneError, SceneWarning, SolverError  # noqa: E402
 
-__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "SceneError", "SceneWarning",
+__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "Verdict", "CodeCheck", "SceneError", "SceneWarning",
            "SolverError", "__version__"]

@@ -1,18 +1,18 @@
 """The two-step limit analysis of a scene, producing the result file of docs/formats.md, 'Result file'.
 
-Step 1: the checked associative LP (:mod:`limit.checked_lp`). Step 2 (NLP,
+Step 1: the checked associative LP (:mod:`limit.solve.checked_lp`). Step 2 (NLP,
 :mod:`limit.step2`) is added by :func:`analyse` according to the method. The result's
-parts are built by :mod:`limit.result_parts`.
+parts are built by :mod:`limit.results.result_parts`.
 """
 from __future__ import annotations
 
 import time
 
-from . import lp as lpmod
-from . import step2, verify
-from .assemble import Options, assemble
-from .checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
-from .result_parts import interfaces_part, lp_result  # noqa: F401
+from limit import step2
+from limit.solve import lp as lpmod, verify
+from limit.model.assemble import Options, assemble
+from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
+from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
 
 
 def analyse(scene, method: str = "auto", options: Options | None = None, solver: str = lpmod.DEFAULT_SOLVER,
@@ -43,7 +43,7 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
                 out["nlp"]["alpha"] < -verify.TOL_GAP:
             out["nlp"]["status"] = "infeasible"
     if scene.demand is not None:  # the code check, only for a scene that states a demand
-        from .local_check import scene_verdict
+        from limit.verdict.local_check import scene_verdict
 
         out["verdict"] = scene_verdict(scene, out)
     out["_assembled"] = P

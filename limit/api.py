@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .assemble import Options
-from .scene import load_scene
+from limit.model.assemble import Options
+from limit.model.scene import load_scene
 
-__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult"]
+__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "CodeCheck", "Verdict"]
 
 
 @dataclass(frozen=True)
@@ -35,9 +35,62 @@ class StepResult:
 
 
 @dataclass(frozen=True)
+class CodeCheck:
+    """One check of the Circolare 2019, C8.7.1: ``demand`` and ``capacity`` (m/s^2 for the
+    linear check, m for the nonlinear one), ``ratio`` = capacity / demand, ``passed``."""
+
+    demand: float
+    capacity: float
+    ratio: float
+    passed: bool
+
+    @classmethod
+    def from_dict(cls, d: dict | None) -> "CodeCheck | None":
+        return None if d is None else cls(d["demand"], d["capacity"], d["ratio"], bool(d["pass"]))
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The code check of the collapse mechanism against the scene's seismic demand.
+
+    ``status``: done | failed (with ``reason``); ``step``: whose mechanism (nlp or lp);
+    ``alpha0``: its load factor; ``a0_star``: the spectral acceleration capacity (m/s^2);
+    ``M_star`` (kg), ``e_star``: participating mass and its fraction; ``linear``,
+    ``nonlinear``: :class:`CodeCheck` (``nonlinear`` None with ``nonlinear_reason``);
+    ``passed``: every check made passed; ``data``: the whole ``verdict`` part."""
+
+    status: str
+    reason: str
+    step: str | None
+    alpha0: float | None
+    a0_star: float | None
+    M_star: float | None
+    e_star: float | None
+    linear: CodeCheck | None
+    nonlinear: CodeCheck | None
+    nonlinear_reason: str
+    data: dict = field(repr=False)
+
+    @property
+    def passed(self) -> bool | None:
+        made = [c for c in (self.linear, self.nonlinear) if c is not None]
+        return all(c.passed for c in made) if made else None
+
+    @classmethod
+    def from_dict(cls, d: dict | None) -> "Verdict | None":
+        if d is None:
+            return None
+        lin, chk = d.get("linear") or {}, d.get("check") or {}
+        return cls(d.get("status"), d.get("reason", ""), d.get("step"), d.get("alpha0"), lin.get("a0_star"),
+                   lin.get("M_star"), lin.get("e_star"), CodeCheck.from_dict(chk.get("linear")),
+                   CodeCheck.from_dict(chk.get("nonlinear")), chk.get("nonlinear_reason", "") or "", d)
+
+
+@dataclass(frozen=True)
 class Result:
     """The limit analysis of one scene. ``alpha``: the answer (the frictional step 2 where
-    it ran or was skipped, else the LP's bound); ``lp``, ``nlp``: :class:`StepResult`."""
+    it ran or was skipped, else the LP's bound); ``lp``, ``nlp``: :class:`StepResult`;
+    ``verdict``: :class:`Verdict` when the scene states a demand, else None."""
 
     scene: str
     dim: int
@@ -47,6 +100,7 @@ class Result:
     lp: StepResult
     nlp: StepResult | None
     _data: dict = field(repr=False)
+    verdict: Verdict | None = None
 
     @property
     def alpha(self) -> float | None:
@@ -56,20 +110,21 @@ class Result:
 
     def to_dict(self) -> dict:
         """The result file's content (JSON-ready: docs/formats.md, 'Result file')."""
-        from .analysis import public
+        from limit.analysis import public
 
         return public(self._data)
 
 
 def analyse(scene, method: str = "auto", options: Options | None = None, **kw) -> Result:
-    """Limit analysis of a scene (a :class:`limit.scene.Scene`, a path or a parsed dict).
+    """Limit analysis of a scene (a :class:`limit.model.scene.Scene`, a path or a parsed dict).
     ``method``: "lp" (step 1 only), "nlp" (always step 2) or "auto" (step 2 where it can
     change the answer); further keywords as :func:`limit.analysis.analyse`."""
-    from .analysis import analyse as _analyse
-    from .scene import Scene
+    from limit.analysis import analyse as _analyse
+    from limit.model.scene import Scene
 
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
     d = _analyse(scene, method=method, options=options, **kw)
     return Result(d["scene"], d["dim"], d["n_blocks"], d["n_free_blocks"], d["n_interfaces"],
-                  StepResult.from_dict(d["lp"]), StepResult.from_dict(d.get("nlp")), d)
+                  StepResult.from_dict(d["lp"]), StepResult.from_dict(d.get("nlp")), d,
+                  Verdict.from_dict(d.get("verdict")))

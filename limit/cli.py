@@ -9,15 +9,15 @@ import argparse
 import os
 import sys
 
-from .errors import SceneError, run_command
+from limit.errors import SceneError, run_command
+from limit.solve.solvers import SOLVERS
 
-#: the names of limit.lp.SOLVERS (not imported here: cvxpy is slow to import for `info`)
-LP_SOLVERS = ["auto", "ipm", "clarabel", "ecos", "highs", "highs-ipm"]
+#: the registry's names (limit.solve.solvers imports no cvxpy, which is slow to import for `info`)
+LP_SOLVERS = list(SOLVERS)
 
 
 def _parser() -> argparse.ArgumentParser:
-    from . import __version__
-
+    from limit import __version__
     p = argparse.ArgumentParser(prog="limit", description=__doc__.splitlines()[0])
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
@@ -87,11 +87,11 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def cmd_check(args) -> int:
-    from . import jsonio
-    from .analysis import analyse, public
-    from .local_check import format_assessment, verdict
-    from .scene import load_scene
-    from .seismic_demand import Demand
+    from limit import jsonio
+    from limit.analysis import analyse, public
+    from limit.verdict.local_check import format_assessment, verdict
+    from limit.model.scene import load_scene
+    from limit.model.seismic_demand import Demand
 
     if args.fc is not None and not (args.fc >= 1.0):
         raise SceneError(f"--fc: the confidence factor must be >= 1, got {args.fc}")
@@ -120,12 +120,12 @@ def cmd_check(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from . import jsonio
-    from .direction_sweep import sweep
+    from limit import jsonio
+    from limit.direction_sweep import sweep
 
     if not (0 < args.step <= 180):
         raise SceneError(f"--step: must be in (0, 180] degrees, got {args.step}")
-    from .scene import load_scene
+    from limit.model.scene import load_scene
 
     data = load_scene(args.scene).data  # validated (exit 2 on bad input)
     if data.get("dim") != 3:
@@ -145,11 +145,11 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_solve(args) -> int:
-    from . import jsonio
-    from .analysis import analyse, public
-    from .assemble import Options
-    from .scene import load_scene
-    from .summary import format_result
+    from limit import jsonio
+    from limit.analysis import analyse, public
+    from limit.model.assemble import Options
+    from limit.model.scene import load_scene
+    from limit.results.summary import format_result
 
     if args.slide_faces is not None and (args.slide_faces < 4 or args.slide_faces % 2 or args.slide_faces > 360):
         raise SceneError(f"--slide-faces: must be an even number from 4 to 360, got {args.slide_faces}")
@@ -171,9 +171,9 @@ def cmd_solve(args) -> int:
 
 
 def cmd_info(args) -> int:
-    from . import jsonio
-    from .info import format_info, scene_info
-    from .scene import load_scene
+    from limit import jsonio
+    from limit.results.info import format_info, scene_info
+    from limit.model.scene import load_scene
 
     scene = load_scene(args.scene, strict=args.strict)
     info = scene_info(scene)

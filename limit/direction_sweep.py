@@ -9,7 +9,7 @@ local cluster of ``jobs`` processes, or the scheduler at ``scheduler``, as the c
 validation does) when that pays: the first two directions are solved in this process, the
 second timed, and a local cluster is started only if the time saved exceeds
 :data:`DASK_START_S`. With ``mirror`` (the scene is mirror-
-symmetric about the vertical plane containing its live direction, :mod:`limit.symmetry`,
+symmetric about the vertical plane containing its live direction, :mod:`limit.verdict.symmetry`,
 declared by the scene's ``"symmetry": "mirror"`` or asked for), alpha(-theta) =
 alpha(theta): only 0..180 degrees are solved and the rest is mirrored.
 """
@@ -50,8 +50,8 @@ def _turn(data: dict, theta_deg: float, verdict: bool = False) -> dict:
 
 
 def _lp_alpha(args) -> tuple[float, str, float | None, float]:
-    from .analysis import analyse
-    from .scene import load_scene
+    from limit.analysis import analyse
+    from limit.model.scene import load_scene
 
     data, theta = args
     t0 = time.perf_counter()
@@ -70,7 +70,7 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     solved)}. ``progress(done, total)`` is called as directions finish. ``mirror`` None: as
     the scene declares (``"symmetry": "mirror"``); a mirror symmetry, declared or asked for,
     is checked first
-    (:func:`limit.symmetry.check_mirror`: ValueError naming a block without its image)."""
+    (:func:`limit.verdict.symmetry.check_mirror`: ValueError naming a block without its image)."""
     if data.get("dim") != 3:
         raise ValueError("dim: the direction sweep is for 3D scenes (a 2D scene's load direction is +/- x)")
     if not (0 < step_deg <= 180):
@@ -79,8 +79,8 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     if mirror is None:
         mirror = data.get("symmetry") == "mirror"
     if mirror:
-        from .scene import load_scene
-        from .symmetry import check_mirror
+        from limit.model.scene import load_scene
+        from limit.verdict.symmetry import check_mirror
 
         check_mirror(load_scene(data))
     n = int(round(360.0 / step_deg))
@@ -103,7 +103,7 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     if parallel:
         from dask.distributed import as_completed
 
-        from .dask_pool import dask_client
+        from limit.dask_pool import dask_client
 
         with dask_client(jobs, scheduler) as client:
             for f in as_completed(client.map(_lp_alpha, [(data, float(t)) for t in rest], pure=False)):
@@ -127,8 +127,8 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     k = int(np.nanargmin(alpha))
     at_min = None
     if frictional:
-        from .analysis import analyse, public
-        from .scene import load_scene
+        from limit.analysis import analyse, public
+        from limit.model.scene import load_scene
 
         r = public(analyse(load_scene(_turn(data, float(thetas[k]), verdict=True)), method="auto"))
         at_min = {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}

@@ -1,16 +1,16 @@
-"""Step 2's policy: which route runs (the successive LP of :mod:`limit.nlp` with its
-restarts, or the large-scale route of :mod:`limit.step2_large`), the independent checks
+"""Step 2's policy: which route runs (the successive LP of :mod:`limit.solve.nlp` with its
+restarts, or the large-scale route of :mod:`limit.solve.step2_large`), the independent checks
 (global MILP, iterative LP) and the ``nlp`` part of the result file (docs/formats.md,
-'Result file'). The algorithms themselves are in :mod:`limit.nlp`."""
+'Result file'). The algorithms themselves are in :mod:`limit.solve.nlp`."""
 from __future__ import annotations
 
 import time
 
 import numpy as np
 
-from . import iterative_lp, lpsub, mechanism, milp, nlp, step2_large
-from .nlp_problem import build
-from .result_parts import interfaces_part
+from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, step2_large
+from limit.solve.nlp_problem import build
+from limit.results.result_parts import interfaces_part
 
 
 ALL_STRATEGIES = ("penalty", "random", "friction")
@@ -115,9 +115,9 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
 
     ``method`` "auto" skips the NLP where it cannot change the answer; "nlp" always runs it.
     ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).
-    ``global_check`` adds the mixed-integer global minimum (:mod:`limit.milp`) for scenes of up
+    ``global_check`` adds the mixed-integer global minimum (:mod:`limit.solve.milp`) for scenes of up
     to GLOBAL_MAX_BLOCKS free blocks; ``iterative`` the iterative LP of Gilbert et al.
-    (:mod:`limit.iterative_lp`). ``time_budget``: see :func:`run`.
+    (:mod:`limit.solve.iterative_lp`). ``time_budget``: see :func:`run`.
     """
     t0 = time.perf_counter()
     if lp_sol.status not in ("optimal", "unbounded"):
@@ -173,7 +173,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     return part
 
 
-#: free blocks from which ``solver="auto"`` takes the large-scale route (:mod:`limit.step2_large`):
+#: free blocks from which ``solver="auto"`` takes the large-scale route (:mod:`limit.solve.step2_large`):
 #: below it the successive LP's many starts found lower alphas (68-126-block walls: 3-4 % lower,
 #: in 8-42 s); at 300 blocks it stops at its time budget with a local point
 LARGE_MIN_FREE = 200

@@ -74,7 +74,7 @@ def entries() -> dict:
                                         "source": "analytic: the wall overturns about its base edge, alpha = t / H"})
     oop["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
     oop["demand"] = dict(EXAMPLE_DEMAND)
-    oop["symmetry"] = "mirror"  # about the vertical plane x = 1.2 m (checked by limit.symmetry)
+    oop["symmetry"] = "mirror"  # about the vertical plane x = 1.2 m (checked by limit.verdict.symmetry)
     oop["meta"] = {"sweep": {"step": 5}}  # the worst direction: half the circle solved, by the symmetry
     add(oop)
     th = math.radians(30.0)
@@ -109,7 +109,7 @@ def entries() -> dict:
                                                 "0.2 m: work against the dead load 0.08*0.1 + 0.16*0.2 = 0.04, work of "
                                                 "the live load 0.08*0.2 + 0.16*0.6 = 0.112 (times rho g t), alpha = "
                                                 "0.04/0.112 = 5/14 (tests/test_catalog.py); no mechanism is lower: "
-                                                "global minimum by mixed-integer LP (limit/milp.py); the issue's DEM "
+                                                "global minimum by mixed-integer LP (limit/solve/milp.py); the issue's DEM "
                                                 "probe found 0.357"},
                             meta={"title": "3 x 3 running-bond wall whose joints open while they slide",
                                   "notes": "The LP's dilatant mechanism needs alpha = 1.0; without dilatancy the end "

@@ -17,7 +17,7 @@ import itertools
 
 import numpy as np
 
-from limit.geometry import polygon_area_centroid
+from limit.geom.geometry import polygon_area_centroid
 
 
 def _rot(w, r):

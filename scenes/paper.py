@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from limit.geometry import polygon_area_centroid
+from limit.geom.geometry import polygon_area_centroid
 
 from . import builders as B
 

@@ -12,9 +12,7 @@ import copy
 
 import numpy as np
 
-from limit import geometry
-
-
+from limit.geom import geometry
 def block_vertices(blk: dict, dim: int) -> np.ndarray:
     """The corner points of a block dict (box or vertices), (k, dim)."""
     if "vertices" in blk:

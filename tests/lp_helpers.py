@@ -1,7 +1,7 @@
 """Small helpers shared by the limit-analysis tests."""
 from limit.analysis import solve_lp
-from limit.assemble import Options, assemble
-from limit.scene import load_scene
+from limit.model.assemble import Options, assemble
+from limit.model.scene import load_scene
 
 
 #: the solver lp_alpha uses when none is named (test modules may switch it, see test_lp_closed_form)

@@ -28,9 +28,22 @@ def test_typed_result_of_a_frictional_scene():
     assert not any(k.startswith("_") for k in d)
 
 
-def test_the_answer_is_none_when_step_2_failed(monkeypatch):
-    from limit import nlp
+def test_typed_verdict_of_a_scene_with_a_demand():
+    """The catalog's portal states ag = 0.2 g, S = 1.2, q = 2: the linear check's demand is
+    ag S / q = 0.2 x 9.81 x 1.2 / 2 = 1.1772 m/s^2 (by hand). The typed verdict carries the
+    file's numbers; ``passed`` is every check made passing. A scene without a demand has none."""
+    r = limit.analyse("scenes/catalog/portal-2d.json")
+    v, d = r.verdict, r.to_dict()["verdict"]
+    assert isinstance(v, limit.Verdict) and v.status == "done" and v.step in ("lp", "nlp")
+    assert v.linear.demand == pytest.approx(1.1772, rel=1e-12)
+    assert v.linear.ratio == pytest.approx(v.linear.capacity / v.linear.demand, rel=1e-12)
+    assert v.a0_star == d["linear"]["a0_star"] == v.linear.capacity and v.alpha0 == pytest.approx(r.alpha)
+    assert v.passed == (d["check"]["linear"]["pass"] and d["check"]["nonlinear"]["pass"])
+    assert limit.analyse(B.single_block(2, 0.3, 1.0)).verdict is None
 
+
+def test_the_answer_is_none_when_step_2_failed(monkeypatch):
+    from limit.solve import nlp
     monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
     r = limit.analyse(B.side_by_side(dim=2, mu=0.5))
     assert r.nlp.status == "failed" and r.alpha is None and r.lp.alpha == pytest.approx(7 / 17, rel=1e-6)

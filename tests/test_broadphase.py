@@ -1,8 +1,8 @@
-"""limit/broadphase.py (sweep and prune) against brute force and a lattice count by hand."""
+"""limit/geom/broadphase.py (sweep and prune) against brute force and a lattice count by hand."""
 import numpy as np
 import pytest
 
-from limit.broadphase import candidate_pairs
+from limit.geom.broadphase import candidate_pairs
 
 
 def brute(lo, hi, tol):
@@ -66,7 +66,7 @@ def test_touching_lattice_count(shape, chunk):
 
 @pytest.mark.parametrize("tol", [-1e-3, -0.05, -0.2])
 def test_negative_tolerance_misses_no_overlap(tol):
-    """tol < 0 (limit/overlap.py: boxes overlapping by more than |tol|): no overlapping pair is missed.
+    """tol < 0 (limit/geom/overlap.py: boxes overlapping by more than |tol|): no overlapping pair is missed.
     Measured: the sweep also returns pairs in which a box is thinner than |tol| along the sweep axis
     (the reverse test lo_i <= hi_j + tol is not made on that axis); each such extra pair must have a
     box thinner than |tol| on some axis. The narrow phase of overlap.py filters them."""

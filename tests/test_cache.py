@@ -92,7 +92,7 @@ def fake_root(tmp_path, monkeypatch):
     """A source tree with packages limit/ and dem_validation/ and a pyproject.toml as reports.cache.ROOT
     (the lru_cache of code_fingerprint cleared before and after)."""
     root = tmp_path / "root"
-    for rel, text in {"limit/__init__.py": "", "limit/lp.py": "A = 1\n", "limit/schema.json": "{}",
+    for rel, text in {"limit/__init__.py": "", "limit/solve/lp.py": "A = 1\n", "limit/schema.json": "{}",
                       "limit/notes.md": "x", "dem_validation/run.py": "B = 1\n", "pyproject.toml": "[project]\n"}.items():
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         (root / rel).write_text(text)
@@ -108,7 +108,7 @@ def fingerprints():
 
 
 @pytest.mark.parametrize("edit, la_changes, dem_changes", [
-    ("limit/lp.py", True, True),
+    ("limit/solve/lp.py", True, True),
     ("limit/schema.json", True, True),
     ("limit/new.py", True, True),
     ("pyproject.toml", True, True),

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from limit.analysis import analyse
-from limit.scene import load_scene
+from limit.model.scene import load_scene
 from scenes.catalog import catalog_files, main as catalog_main
 
 FILES = catalog_files()

@@ -1,5 +1,5 @@
 """``limit check`` and ``limit sweep`` end to end (exit statuses, numbers against
-limit.kinematic_check's hand-checked values, JSON written)."""
+limit.verdict.kinematic_check's hand-checked values, JSON written)."""
 import json
 
 import pytest

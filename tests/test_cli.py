@@ -5,8 +5,7 @@ import math
 
 import pytest
 
-from limit import lp as lpmod
-from limit import nlp
+from limit.solve import lp as lpmod, nlp
 from limit.cli import main
 
 from tests.conftest import ROOT, run_module
@@ -49,7 +48,7 @@ def test_solve_json_keys_and_values(tmp_path):
 
 
 def test_solve_json_nan_becomes_null(tmp_path, monkeypatch):
-    """A solver that reports no solve time gives timings NaN (limit/lp.py, _solve): the file holds
+    """A solver that reports no solve time gives timings NaN (limit/solve/lp.py, _solve): the file holds
     null there and stays strict JSON; the other numbers are unchanged."""
     real = lpmod._solve
 

@@ -65,7 +65,7 @@ def test_semicircular_arch_of_9_voussoirs():
     mechanism search, scenes/catalog.py). Its voussoirs' inertia axes are turned: a 2D
     scene must not block 'out-of-plane rotations' in LMGC90's body frame (that locked the
     in-plane rotation and held the arch to 0.39)."""
-    from limit.scene import load_scene
+    from limit.model.scene import load_scene
     from tests.conftest import ROOT
 
     scene = load_scene(ROOT / "scenes" / "catalog" / "arch-semicircular-9-2d.json")
@@ -138,9 +138,9 @@ def _job(scene):
     """The LMGC90 job of a scene, as run_loaded_lmgc90 builds it."""
     from dem_validation.job import build_job
     from dem_validation.lmgc_main import knobs as kn
-    from limit.interfaces import find_interfaces
-    from limit.loads import dead_and_live
-    from limit.scene import load_scene
+    from limit.geom.interfaces import find_interfaces
+    from limit.model.loads import dead_and_live
+    from limit.model.scene import load_scene
 
     sc = load_scene(scene)
     f0, fL = dead_and_live(sc)

@@ -33,9 +33,9 @@ from dem_validation import params as P
 from dem_validation.job import build_job
 from dem_validation.runner import run_job
 from limit.analysis import analyse
-from limit.interfaces import find_interfaces
-from limit.loads import dead_and_live
-from limit.scene import load_scene
+from limit.geom.interfaces import find_interfaces
+from limit.model.loads import dead_and_live
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 from tests.conftest import ROOT, run_module

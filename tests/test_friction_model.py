@@ -14,8 +14,8 @@ import math
 import pytest
 
 from limit.analysis import analyse
-from limit.assemble import Options
-from limit.scene import load_scene
+from limit.model.assemble import Options
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 MU = 0.4

@@ -14,7 +14,7 @@ import pytest
 
 from limit.analysis import analyse
 from limit.errors import SceneError, SceneWarning
-from limit.scene import load_scene
+from limit.model.scene import load_scene
 from scenes.catalog import catalog_files
 
 SEED, MUTANTS = 20261126, 3000

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from limit import geometry
-from limit.scene import load_scene
+from limit.geom import geometry
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 
@@ -86,7 +86,7 @@ def test_per_block_density():
 
 
 def test_polygon_area_centroid_one_and_stacked():
-    from limit.geometry import polygon_area_centroid
+    from limit.geom.geometry import polygon_area_centroid
 
     sq = np.array([[1.0, 2.0], [3.0, 2.0], [3.0, 3.0], [1.0, 3.0]])  # CCW 2 x 1 rectangle
     a, c = polygon_area_centroid(sq)
@@ -99,7 +99,7 @@ def test_polygon_area_centroid_one_and_stacked():
 
 
 def test_plane_basis_one_and_stacked():
-    from limit.geometry import plane_basis
+    from limit.geom.geometry import plane_basis
 
     rng = np.random.default_rng(3)
     n = rng.normal(size=(20, 3))

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from limit.interfaces import find_interfaces
-from limit.scene import load_scene
+from limit.geom.interfaces import find_interfaces
+from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes.transform import random_rotation, reorder, transform
 

@@ -1,4 +1,4 @@
-"""The structured interior point method (limit.ipm) against Clarabel, and its failure paths.
+"""The structured interior point method (limit.solve.ipm) against Clarabel, and its failure paths.
 
 Clarabel (through cvxpy) is the independent second method: both solve the
 same static LP, so their verified alphas must agree; the closed forms are
@@ -10,11 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from limit import ipm
-from limit import lp as lpmod
+from limit.solve import ipm, lp as lpmod
 from limit.analysis import solve_lp
-from limit.assemble import Options, assemble
-from limit.scene import load_scene
+from limit.model.assemble import Options, assemble
+from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes.catalog import catalog_files
 
@@ -115,7 +114,6 @@ def test_reduced_system_shift():
 
 
 def test_cli_offers_every_solver():
-    """The CLI lists the solver names without importing cvxpy; the list must follow limit.lp."""
+    """The CLI lists the solver names without importing cvxpy; the list must follow limit.solve.lp."""
     from limit import cli
-
-    assert sorted(cli.LP_SOLVERS) == sorted(lpmod.SOLVERS)
+    assert sorted(cli.LP_SOLVERS) == sorted(lpmod.SOLVERS) and set(lpmod.CVXPY_SOLVERS) | {"ipm", "auto"} == set(lpmod.SOLVERS)

@@ -1,4 +1,4 @@
-"""Linear kinematic analysis (limit/kinematic_check.py) against hand computations.
+"""Linear kinematic analysis (limit/verdict/kinematic_check.py) against hand computations.
 
 Closed forms, with horizontal virtual displacements dx_i of the weights P_i:
 M* = (sum P_i dx_i)^2 / (g sum P_i dx_i^2), e* = g M* / sum P_i, a0* = alpha0 g / (e* FC).
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from limit import analyse, load_scene
-from limit.kinematic_check import linear
+from limit.verdict.kinematic_check import linear
 from scenes import builders as B
 
 G = 9.81
@@ -83,7 +83,7 @@ def test_block_turning_about_its_toe_follows_tan_closed_form():
     (h/2) sin(phi0 - theta) horizontally and (h/2)... so alpha W (vertical lever) = W
     (horizontal lever) gives alpha(theta) = tan(atan(b/h) - theta), zero at theta0 =
     atan(b/h), where the centroid has moved b/2 sideways (d0 = b/2)."""
-    from limit.capacity_curve import follow
+    from limit.verdict.capacity_curve import follow
 
     b, h = 0.3, 1.0
     scene = load_scene(B.single_block(2, b, h, mu=0.8))
@@ -103,7 +103,7 @@ def test_two_blocks_turning_together_about_the_base_toe():
     """Two stacked blocks b x h as one body of height H = 2h: alpha(theta) = tan(atan(b/H)
     - theta); the control point (top centroid, at (-b/2, 3h/2) from the toe) has moved
     b/2 (1 - cos theta0) + (3h/2) sin theta0 sideways when alpha reaches 0."""
-    from limit.capacity_curve import follow
+    from limit.verdict.capacity_curve import follow
 
     b, h = 0.3, 0.5
     scene = load_scene(B.stack(2, 2, b=b, h=h, mu=0.8))
@@ -123,7 +123,7 @@ def test_3d_rocking_follows_the_tan_closed_form(case):
     about its base edge: the same plane geometry as the 2D block, alpha(theta) =
     tan(atan(t/H) - theta), with theta the rotation's magnitude (the 3D follower's
     "rotation"), zero at d0 = t/2 for the block."""
-    from limit.capacity_curve import follow
+    from limit.verdict.capacity_curve import follow
     from scenes.catalog import CATALOG_DIR
 
     if case == "block":
@@ -155,7 +155,7 @@ def test_portal_sway_follows_its_closed_form(dim):
     b (1 - cos theta) + h sin theta, so d0 = b at theta0 = atan(b/h)."""
     from scipy.optimize import brentq
 
-    from limit.capacity_curve import follow
+    from limit.verdict.capacity_curve import follow
     from scenes.catalog import CATALOG_DIR
 
     b, h = 0.3, 1.5
@@ -171,7 +171,7 @@ def test_portal_sway_follows_its_closed_form(dim):
 
 
 def test_a_sliding_mechanism_is_refused_naming_the_joint():
-    from limit.capacity_curve import follow
+    from limit.verdict.capacity_curve import follow
 
     scene = load_scene(B.single_block(2, 1.0, 0.5, mu=0.4))
     r = analyse(scene, method="lp")
@@ -188,7 +188,7 @@ def test_spectrum_by_hand_and_the_linear_check():
     2.18 m/s^2 against ag S / q = 0.25 9.81 1.2 / 2 = 1.4715 at ground level: passes, ratio
     1.4815. With its base at Z = 6 m of a 9 m, 3-storey building (T1 = 0.3 s, on the plateau):
     7.3575 (6/9) (9/7) / 2 = 3.1532 m/s^2: fails."""
-    from limit.seismic_demand import Demand, check
+    from limit.model.seismic_demand import Demand, check
 
     d = Demand(ag_g=0.25, S=1.2)
     assert d.Se(0.0) == pytest.approx(2.943) and d.Se(0.3) == pytest.approx(7.3575)
@@ -210,8 +210,8 @@ def test_nonlinear_check_of_one_block():
     """The block b x h = 0.3 x 1 about its toe: d0* = b/2 = 0.15 m (e* = 1, d* = d),
     du* = 0.4 d0* = 0.06 m, ds* = 0.024 m where a* = tan(phi0 - theta) g / FC with the centroid
     moved 0.024 m; Ts = 2 pi sqrt(ds*/as*). Demand SDe(Ts) from the spectrum."""
-    from limit.capacity_curve import follow
-    from limit.seismic_demand import Demand, check
+    from limit.verdict.capacity_curve import follow
+    from limit.model.seismic_demand import Demand, check
 
     scene = load_scene(B.single_block(2, 0.3, 1.0, mu=0.8))
     r = analyse(scene, method="lp")

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from limit import mechanism
+from limit.solve import mechanism
 from scenes import builders as B
 from tests import lp_helpers
 from tests.lp_helpers import lp_alpha

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from limit.analysis import solve_lp
-from limit.assemble import assemble
-from limit.lp import kinematic_lp
-from limit.scene import load_scene
+from limit.model.assemble import assemble
+from limit.solve.lp import kinematic_lp
+from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes.catalog import catalog_files
 from scenes.transform import random_rotation, reorder, transform
@@ -81,7 +81,7 @@ INVARIANCE = {
 def rotation_about_vertical(dim, rng):
     if dim == 2:
         return np.diag([-1.0, 1.0])  # the only other 2D map keeping the vertical: a mirror
-    from limit.geometry import rotation_matrix
+    from limit.geom.geometry import rotation_matrix
 
     return rotation_matrix(3, float(rng.uniform(0, 360)), [0, 0, 1])
 

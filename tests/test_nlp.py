@@ -2,12 +2,13 @@
 import numpy as np
 import pytest
 
-from limit import iterative_lp, milp, nlp, step2
+from limit import step2
+from limit.solve import iterative_lp, milp, nlp
 from limit.analysis import analyse, solve_lp
-from limit.assemble import assemble
-from limit.nlp_problem import build
-from limit.scene import load_scene
-from limit.yield_domain import TWIST
+from limit.model.assemble import assemble
+from limit.solve.nlp_problem import build
+from limit.model.scene import load_scene
+from limit.model.yield_domain import TWIST
 from scenes import builders as B
 
 

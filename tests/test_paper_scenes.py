@@ -6,10 +6,10 @@ import json
 import pytest
 
 from limit.analysis import analyse
-from limit.assemble import Options
+from limit.model.assemble import Options
 from limit.errors import SceneError
-from limit.interfaces import find_interfaces
-from limit.scene import load_scene
+from limit.geom.interfaces import find_interfaces
+from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes import paper as PP
 from scenes.catalog import CATALOG_DIR

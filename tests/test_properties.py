@@ -15,11 +15,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from limit import lp as lpmod, step2
-from limit import nlp, verify
+from limit import step2
+from limit.solve import lp as lpmod, nlp, verify
 from limit.analysis import solve_lp
-from limit.assemble import assemble
-from limit.scene import load_scene
+from limit.model.assemble import assemble
+from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes.transform import random_rotation, reorder, transform
 

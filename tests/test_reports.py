@@ -143,7 +143,7 @@ def test_failed_lp_is_red():
 
 
 def test_similarity_is_scale_free():
-    from limit.scene import load_scene
+    from limit.model.scene import load_scene
     from scenes import builders as B
 
     s = load_scene(B.stack(2, dim=2))
@@ -343,10 +343,10 @@ def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
     """The report's verdicts: the catalog scenes stating a demand (the 3D out-of-plane wall
     and the 2D portal, ag = 0.2 g, S = 1.2, q = 2: ag S / q = 0.2 9.81 1.2 / 2 = 1.1772 m/s^2 by
     hand) get their linear and nonlinear checks, with numbers equal to the library's
-    (limit.kinematic_check on the LA's mechanism); a scene without a demand gets none."""
+    (limit.verdict.kinematic_check on the LA's mechanism); a scene without a demand gets none."""
     from limit.analysis import analyse, public
-    from limit.kinematic_check import linear
-    from limit.scene import load_scene
+    from limit.verdict.kinematic_check import linear
+    from limit.model.scene import load_scene
     from reports import plots, verdict
     from tests.conftest import ROOT
 

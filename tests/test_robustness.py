@@ -13,11 +13,10 @@ import json
 import numpy as np
 import pytest
 
-from limit import lp as lpmod
-from limit import verify
+from limit.solve import lp as lpmod, verify
 from limit.analysis import solve_lp
-from limit.assemble import assemble
-from limit.scene import load_scene
+from limit.model.assemble import assemble
+from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes.catalog import CATALOG_DIR
 

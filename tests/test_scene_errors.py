@@ -6,7 +6,7 @@ import pytest
 
 from limit.cli import main
 from limit.errors import SceneError
-from limit.scene import load_scene
+from limit.model.scene import load_scene
 from scenes import builders as B
 from tests.conftest import run_module
 

@@ -1,4 +1,4 @@
-"""Step 2 at scale (limit/step2_large.py): the iterative LP on the structured interior
+"""Step 2 at scale (limit/solve/step2_large.py): the iterative LP on the structured interior
 point method, snapped to an exactly complementary point and checked independently.
 
 Closed forms used (derivations in scenes/builders.py):
@@ -6,7 +6,7 @@ Closed forms used (derivations in scenes/builders.py):
     alpha = mu^2 h / b when b < mu h (confined_block_alpha); its associative LP is
     unbounded (sliding dilates, the ceiling forbids it);
   * a slender block pushing a squat one: frictional 23/61 at mu = 0.5 (side_by_side_alpha).
-The mixed-integer LP (limit/milp.py) is the independent global reference on a small wall.
+The mixed-integer LP (limit/solve/milp.py) is the independent global reference on a small wall.
 """
 import json
 import subprocess
@@ -14,10 +14,11 @@ import sys
 
 import pytest
 
-from limit import nlp, step2, step2_large
+from limit import step2
+from limit.solve import nlp, step2_large
 from limit.analysis import analyse, solve_lp
-from limit.assemble import assemble
-from limit.scene import load_scene
+from limit.model.assemble import assemble
+from limit.model.scene import load_scene
 from scenes import builders as B
 
 
@@ -66,8 +67,7 @@ def test_small_wall_agrees_with_the_global_minimum():
     """A 3-course running-bond wall of 0.4 x 0.3 m blocks (mu 0.9): the MILP proves the global
     frictional minimum; every verified start of the large route is a collapse state, so
     never below it, and here the best one reaches it."""
-    from limit import milp
-
+    from limit.solve import milp
     P, sol = _solved(B.running_bond_wall(3, 2, dim=2, L=0.4, H=0.3, mu=0.9))
     big = step2_large.solve(P, sol)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)

@@ -1,4 +1,4 @@
-"""A declared mirror symmetry (limit/symmetry.py) is checked, and the direction sweep uses it.
+"""A declared mirror symmetry (limit/verdict/symmetry.py) is checked, and the direction sweep uses it.
 
 A second method for the mirrored half: the full 360-degree sweep of the same scene.
 """
@@ -9,7 +9,7 @@ import pytest
 
 from limit import load_scene
 from limit.direction_sweep import sweep
-from limit.symmetry import check_mirror
+from limit.verdict.symmetry import check_mirror
 from scenes import builders as B
 
 

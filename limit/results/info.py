@@ -1,7 +1,7 @@
 """Scene summary for ``python -m limit info`` (docs/formats.md, 'Commands')."""
 from __future__ import annotations
 
-from .interfaces import find_interfaces
+from limit.geom.interfaces import find_interfaces
 
 
 def scene_info(scene, interfaces=None) -> dict:

@@ -1,11 +1,11 @@
 """The code check of a local mechanism from an analysis result: its mechanism's linear
-kinematic quantities (:mod:`limit.kinematic_check`), the capacity curve
-where the mechanism can be followed (:mod:`limit.capacity_curve`: rocking mechanisms, 2D and 3D)
-and the verdict against a demand (:mod:`limit.seismic_demand`)."""
+kinematic quantities (:mod:`limit.verdict.kinematic_check`), the capacity curve
+where the mechanism can be followed (:mod:`limit.verdict.capacity_curve`: rocking mechanisms, 2D and 3D)
+and the verdict against a demand (:mod:`limit.model.seismic_demand`)."""
 from __future__ import annotations
 
-from .kinematic_check import FC_DEFAULT
-from .seismic_demand import G, Demand, check
+from limit.verdict.kinematic_check import FC_DEFAULT
+from limit.model.seismic_demand import G, Demand, check
 
 
 def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
@@ -25,8 +25,8 @@ def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = N
     cannot be followed), "check" (None without a demand), "demand"}. ``demand`` and ``fc``
     default to the scene's (its "demand" key; FC 1.35). Raises ValueError when the result has
     no mechanism (infeasible, unbounded or failed), naming its status."""
-    from .capacity_curve import follow
-    from .kinematic_check import linear
+    from limit.verdict.capacity_curve import follow
+    from limit.verdict.kinematic_check import linear
 
     demand = scene.demand if demand is None else demand
     fc = (scene.fc or FC_DEFAULT) if fc is None else fc

@@ -1,6 +1,6 @@
 """Step 2: the non-associative frictional collapse factor, started from the LP (step 1).
 
-Problem: :mod:`limit.nlp_problem` (the paper's eqs. 7-10, unknowns alpha,
+Problem: :mod:`limit.solve.nlp_problem` (the paper's eqs. 7-10, unknowns alpha,
 interface actions, block velocities and plastic multipliers). Solvers:
 
 ``slsqp`` (small problems, up to ``SLSQP_MAX_VARS`` unknowns)
@@ -33,9 +33,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import minimize
 
-from . import lpsub, mechanism, verify
-from .nlp_problem import NLPProblem
-from .yield_domain import SLIDE, TWIST
+from limit.solve import lpsub, mechanism, verify
+from limit.solve.nlp_problem import NLPProblem
+from limit.model.yield_domain import SLIDE, TWIST
 
 SLSQP_MAX_VARS = 250
 TOL_COMP = 1e-7     # complementarity lam . s, in units of alpha (relative to max(1, alpha))
@@ -112,7 +112,7 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
               deadline: float | None = None) -> tuple[np.ndarray, str]:
     """Successive linearisation of min alpha + rho lam . s over the linear constraints.
 
-    ``lp``: an :class:`limit.lpsub.HighsLP` of the constraint polyhedron to reuse
+    ``lp``: an :class:`limit.solve.lpsub.HighsLP` of the constraint polyhedron to reuse
     (warm starts across steps and runs); built here for the "highs" backend if not given.
     ``jitter`` (n_faces,) >= 0: extra cost per unit multiplier, rho * jitter . lam, which
     steers a restart towards other mechanisms (the final point is re-checked without it).
@@ -205,11 +205,8 @@ def check(N: NLPProblem, z: np.ndarray, alpha_lp: float | None) -> tuple[bool, d
     lamh, s = z[N.sl], N.slack(z)
     r["complementarity"] = float(np.sum(np.abs(lamh * s))) / max(1.0, abs(alpha))
     r["alpha_above_lp"] = max(0.0, alpha - alpha_lp) / max(1.0, abs(alpha_lp)) if alpha_lp is not None else 0.0
-    limits = {"equilibrium": verify.TOL_EQ, "block_equilibrium": verify.TOL_EQ, "yield": verify.TOL_YIELD, "compatibility": verify.TOL_KIN,
-              "multipliers": verify.TOL_KIN, "normalisation": verify.TOL_KIN, "complementarity": 1e-6,
-              "alpha_above_lp": 1e-6}
-    bad = [f"{k} residual {r[k]:.2e} > {lim:.0e}" for k, lim in limits.items() if not (r[k] <= lim)]
-    return not bad, r, "; ".join(bad)
+    ok, reason = verify.judge(r, complementarity=verify.TOL_COMP, alpha_above_lp=verify.TOL_GAP)
+    return ok, r, reason
 
 
 # ---------------------------------------------------------------------------
@@ -274,8 +271,8 @@ def reduced_friction_lp(P, factor: float):
     or None when it has no optimum)."""
     import dataclasses
 
-    from .checked_lp import solve_lp
-    from .assemble import assemble
+    from limit.solve.checked_lp import solve_lp
+    from limit.model.assemble import assemble
 
     P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor))
     sol2, _, _ = solve_lp(P2)

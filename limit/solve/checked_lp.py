@@ -1,4 +1,4 @@
-"""Step 1, checked: the associative LP solved and verified a posteriori (:mod:`limit.verify`);
+"""Step 1, checked: the associative LP solved and verified a posteriori (:mod:`limit.solve.verify`);
 an answer that fails its checks is re-solved with the next solver and, if none passes,
 reported as "failed" with the reasons. Used by the analysis and by step 2's starts."""
 from __future__ import annotations
@@ -7,9 +7,8 @@ import time
 
 import numpy as np
 
-from . import lp as lpmod
-from . import verify
-from .assemble import Assembled
+from limit.solve import lp as lpmod, verify
+from limit.model.assemble import Assembled
 
 
 def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = True,

@@ -1,9 +1,7 @@
 """The short human summary printed by ``python -m limit solve``."""
 from __future__ import annotations
 
-from . import mechanism
-
-
+from limit.solve import mechanism
 def _alpha(part: dict) -> str:
     a = part.get("alpha")
     return f"alpha = {a:.6g}" if a is not None else "alpha = -"

@@ -9,9 +9,9 @@ omega), until the normal forces settle. The rocking faces are unchanged.
 Started from the normal forces of the associative LP.
 
 Backends: ``highs`` (any size; the independent check of the validation run) and
-``ipm`` (:mod:`limit.ipm`, the structured interior point method: only the
+``ipm`` (:mod:`limit.solve.ipm`, the structured interior point method: only the
 right-hand side of the friction rows changes, so the per-interface block
-structure survives; the large-scale route of step 2, :mod:`limit.step2_large`).
+structure survives; the large-scale route of step 2, :mod:`limit.solve.step2_large`).
 With ``ipm`` the result also carries the last LP's point (``xh``, ``vh``,
 ``lamh``: scaled actions, mechanism with fLh . vh = 1, multipliers) and
 ``nstar``, for the snap to a complementary point.
@@ -23,8 +23,8 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from . import lpsub
-from .yield_domain import SLIDE, TWIST
+from limit.solve import lpsub
+from limit.model.yield_domain import SLIDE, TWIST
 
 
 def _normal_columns(P, rows):
@@ -109,8 +109,7 @@ NSTAR_FLOOR_MAX = 1e-4
 
 
 def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=None) -> dict:
-    from . import ipm
-
+    from limit.solve import ipm
     fr, Yc, ncol, ncoef = friction_rows(P)
     nstar = (lp_sol.x / P.Dx)[ncol] if nstar0 is None else np.asarray(nstar0, float).copy()
     history, r, it, status = [], None, 0, "not_converged"

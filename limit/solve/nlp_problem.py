@@ -1,6 +1,6 @@
 """The non-associative (frictional) collapse problem of Baggio & Trovalusci, eqs. (7)-(10).
 
-Unknowns (all kept, none eliminated; scaled as in :mod:`limit.assemble`),
+Unknowns (all kept, none eliminated; scaled as in :mod:`limit.model.assemble`),
 stacked into one vector ``z = [alpha, xh, vh, lamh]``:
 
 * alpha — the load factor;
@@ -88,7 +88,7 @@ class NLPProblem:
 
 
 def build(P) -> NLPProblem:
-    """The NLP of the assembled problem P (:class:`limit.assemble.Assembled`)."""
+    """The NLP of the assembled problem P (:class:`limit.model.assemble.Assembled`)."""
     nx, nv, nf = P.model.n_x, P.n_dof, P.model.n_faces
     n = 1 + nx + nv + nf
     ia, sx, sv, sl = 0, slice(1, 1 + nx), slice(1 + nx, 1 + nx + nv), slice(1 + nx + nv, n)

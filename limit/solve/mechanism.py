@@ -1,6 +1,6 @@
 """Reading a mechanism: per-block motions and what each interface does.
 
-The interface strains ``q = B u`` (:mod:`limit.kinematics`) at the contact
+The interface strains ``q = B u`` (:mod:`limit.model.kinematics`) at the contact
 centroid, in the local frame, give per interface (units of the mechanism's
 displacement, m, for unit live-load work):
 

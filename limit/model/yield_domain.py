@@ -3,7 +3,7 @@
 Two interface models share one interface, :class:`InterfaceModel`:
 
 ``"paper"`` (default): Baggio & Trovalusci's domain in the generalised stresses
-  of :mod:`limit.kinematics` (x = r, per interface 2D ``[V, N, M]``, 3D
+  of :mod:`limit.model.kinematics` (x = r, per interface 2D ``[V, N, M]``, 3D
   ``[V1, V2, N, M1, M2, T]``). Faces per interface:
 
   * rocking, one face per edge of the contact polygon: the normal resultant
@@ -21,7 +21,7 @@ Two interface models share one interface, :class:`InterfaceModel`:
   * twisting (3D), two faces |T| <= beta l mu N with beta = 2/3 and
     l = l1 + l2 (the paper: uniform pressure on a circle of radius l). For a
     non-rectangular polygon l1, l2 are its half extents along its principal
-    axes (:mod:`limit.interfaces`), which reduces to the paper's l1, l2 for a
+    axes (:mod:`limit.geom.interfaces`), which reduces to the paper's l1, l2 for a
     rectangle.
 
 ``"vertex"``: point contacts at the vertices of each contact polygon (2D: the
@@ -94,7 +94,7 @@ def resolve_fit(n_slide: int, fit: str) -> str:
 
 
 def build(I, model: str = "paper", n_slide: int = 4, slide_fit: str = "auto") -> InterfaceModel:
-    """The interface model for interfaces ``I`` (:class:`limit.interfaces.Interfaces`)."""
+    """The interface model for interfaces ``I`` (:class:`limit.geom.interfaces.Interfaces`)."""
     if n_slide < 4 or n_slide % 2:
         raise ValueError("n_slide must be an even number >= 4")
     fit = resolve_fit(n_slide, slide_fit)

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kinematic_check import FC_DEFAULT, horizontal_direction, linear, point_velocities, weights
+from limit.verdict.kinematic_check import FC_DEFAULT, horizontal_direction, linear, point_velocities, weights
 
 def _cross(w, r):
     """w x r: 2D w scalar (rad/s), r (..., 2) -> (..., 2); 3D w (3,), r (..., 3)."""
@@ -231,8 +231,8 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
 
 
 def _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc) -> dict:
-    from .interfaces import find_interfaces
-    from .loads import dead_and_live
+    from limit.geom.interfaces import find_interfaces
+    from limit.model.loads import dead_and_live
 
     I = find_interfaces(scene) if interfaces is None else interfaces
     ch = Chain(scene, I, mechanism)

@@ -1,7 +1,7 @@
 """A scene's declared mirror symmetry, checked (scene key ``"symmetry": "mirror"``).
 
 The mirror plane is vertical (it contains gravity), contains the live load's horizontal
-direction h (:func:`limit.kinematic_check.horizontal_direction`) and passes through the
+direction h (:func:`limit.verdict.kinematic_check.horizontal_direction`) and passes through the
 volume centroid c of the free blocks. Its unit normal is n = up x h, and a point p
 mirrors to p - 2 ((p - c) . n) n. The scene is symmetric when every block's mirrored
 centroid is the centroid of a block of the same volume (relative 1e-6) and the same
@@ -20,7 +20,7 @@ TOL = 1e-6
 
 def mirror_plane(scene) -> tuple[np.ndarray, np.ndarray]:
     """(point c (3,), unit normal n (3,)) of the mirror plane of a 3D scene."""
-    from .kinematic_check import horizontal_direction
+    from limit.verdict.kinematic_check import horizontal_direction
 
     if scene.dim != 3:
         raise ValueError("symmetry: a mirror plane is declared for 3D scenes only")
@@ -68,7 +68,7 @@ def check_mirror(scene) -> None:
         raise ValueError(f"symmetry: block '{scene.blocks[i].id}' has no mirror image about the vertical plane of "
                          f"the live load through ({', '.join(f'{x:.4g}' for x in c)}) m (the nearest block of its "
                          f"volume to its image is {miss[i]:.3g} m away)")
-    from .interfaces import find_interfaces
+    from limit.geom.interfaces import find_interfaces
 
     I = find_interfaces(scene)
     ic = np.asarray(I.centroid, float)

@@ -9,16 +9,16 @@ Kinematic LP (upper-bound form, gives the mechanism)::
     minimise -f0h . vh  s.t.  Eh.T vh + Yh.T lamh = 0,  fLh . vh = 1,  lamh >= 0
 
 Both are built in matrix form (one sparse matrix per constraint block) on the
-scaled problem of :mod:`limit.assemble`. They are each other's duals: the
+scaled problem of :mod:`limit.model.assemble`. They are each other's duals: the
 static LP's equality multipliers are the mechanism vh and its inequality
 multipliers the plastic multipliers lamh, so one static solve yields the
 mechanism too; the kinematic LP is solved on request as an independent check.
 Unscaled: ``u = vh / Df`` (normalised to unit work of the live load,
 ``fL . u = 1``), ``lam = lamh / Sy``, ``x = Dx xh``.
 
-Solvers: through cvxpy ``clarabel`` (interior point, qdldl factorisation),
+Solvers (named in the registry :mod:`limit.solve.solvers`): through cvxpy ``clarabel`` (interior point, qdldl factorisation),
 ``ecos``, ``highs`` (HiGHS's own choice, dual simplex on LPs) and ``highs-ipm``;
-and ``ipm`` (:mod:`limit.ipm`), an interior point method that exploits the
+and ``ipm`` (:mod:`limit.solve.ipm`), an interior point method that exploits the
 interface-by-interface structure of the yield rows (2-4x faster than Clarabel
 from a few thousand blocks on, no infeasibility detection: a run that does not
 converge is "failed" and the next solver is asked). ``auto`` (the default) is
@@ -34,7 +34,8 @@ from dataclasses import dataclass, field
 import cvxpy as cp
 import numpy as np
 
-from .assemble import Assembled
+from limit.model.assemble import Assembled
+from limit.solve.solvers import AUTO_IPM_MIN_DOF, DEFAULT_SOLVER, FALLBACK, SOLVERS  # noqa: F401  (public here too)
 
 #: solver name -> (cvxpy solver, options)
 CVXPY_SOLVERS = {
@@ -44,15 +45,7 @@ CVXPY_SOLVERS = {
     "highs": ("HIGHS", {}),
     "highs-ipm": ("HIGHS", {"highs_options": {"solver": "ipm", "run_crossover": "off"}}),
 }
-#: every selectable name ("auto" picks one of the others by size, see :func:`resolve`)
-SOLVERS = (*CVXPY_SOLVERS, "ipm", "auto")
-DEFAULT_SOLVER = "auto"
-#: "auto" uses the structured interior point method from this many block unknowns on (make bench:
-#: the two are equally fast near 1,000 2D blocks, i.e. 3,000 unknowns; ipm 2.8x faster at 30,000)
-AUTO_IPM_MIN_DOF = 3000
-#: solvers tried in turn when an answer fails its verification
-FALLBACK = {"clarabel": ["highs-ipm", "ecos"], "ecos": ["clarabel"], "highs": ["clarabel"],
-            "highs-ipm": ["clarabel"], "ipm": ["clarabel", "highs-ipm"]}
+assert set(CVXPY_SOLVERS) <= set(SOLVERS), "every cvxpy solver is named in limit.solve.solvers"
 
 
 def resolve(solver: str, P: Assembled) -> str:
@@ -144,9 +137,8 @@ def _unscale(P: Assembled, sol: LPSolution, alpha, xh, vh, lamh) -> None:
 
 
 def _static_ipm(P: Assembled, overrides: dict | None = None) -> LPSolution:
-    """The static LP by :mod:`limit.ipm` (same unscaling as the cvxpy path)."""
-    from . import ipm
-
+    """The static LP by :mod:`limit.solve.ipm` (same unscaling as the cvxpy path)."""
+    from limit.solve import ipm
     r = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, **(overrides or {}))
     t = {"compile_s": r["setup_s"], "solve_s": r["solve_s"] - r["setup_s"], "solver_total_s": r["solve_s"],
          "ipm_iterations": r["iterations"]}

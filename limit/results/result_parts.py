@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import mechanism
-from .assemble import Assembled
+from limit.solve import mechanism
+from limit.model.assemble import Assembled
 
 
 def lp_result(P: Assembled, sol, attempts, residuals, t_total: float) -> dict:

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .loads import free_index
+from limit.model.loads import free_index
 
 
 def _skew(r):

@@ -1,21 +1,21 @@
 """Step 2 at scale: the iterative LP on the structured interior point method, snapped to
 an exactly complementary point and checked independently.
 
-Route (for scenes too large for the successive LP of :mod:`limit.nlp`, and for
+Route (for scenes too large for the successive LP of :mod:`limit.solve.nlp`, and for
 scenes whose associative LP has no mechanism):
 
 1. The iterative LP of Gilbert, Casapulla & Ahmed (2006) with the friction
-   capacities ``mu N*`` as the right-hand side of :mod:`limit.ipm`
-   (:func:`limit.iterative_lp.solve`, backend "ipm"; relaxation :data:`OMEGA`:
+   capacities ``mu N*`` as the right-hand side of :mod:`limit.solve.ipm`
+   (:func:`limit.solve.iterative_lp.solve`, backend "ipm"; relaxation :data:`OMEGA`:
    in 2D none, omega = 1 settled in 28 LPs on a 45-block wall where 0.5 had
    not in 60; in 3D 0.5, at 1 a 42-block wall oscillated until an LP failed,
    at 0.5 it snapped after 22; halved whenever the complementarity residual
    stalls, :data:`STALL`).
    Each LP answer is a point of the frictional problem: its statics, and as
    its dual the mechanism with flow ``G lam`` (no dilatancy).
-2. After each LP the point is checked (:func:`limit.nlp.check`); once its
+2. After each LP the point is checked (:func:`limit.solve.nlp.check`); once its
    complementarity residual is below ``SNAP_COMP`` the piece LP
-   (:func:`limit.nlp.polish`: faces that flow keep s = 0, the others lam = 0)
+   (:func:`limit.solve.nlp.polish`: faces that flow keep s = 0, the others lam = 0)
    snaps it to an exactly complementary point, which is checked in turn. A
    failed snap is retried only when the residual has fallen tenfold.
 3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
@@ -40,8 +40,8 @@ import time
 
 import numpy as np
 
-from . import iterative_lp, lpsub, nlp
-from .nlp_problem import build
+from limit.solve import iterative_lp, lpsub, nlp
+from limit.solve.nlp_problem import build
 
 #: relaxation of N* per dimension (see the module docstring), halved (down to OMEGA_MIN) each time
 #: the complementarity residual has not reached a new low for STALL LPs: at 3,052 2D blocks omega = 1
@@ -105,7 +105,7 @@ def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
 
 
 def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray | None, str]:
-    """The piece LP of :func:`limit.nlp.polish`, solved as its two independent parts: with the
+    """The piece LP of :func:`limit.solve.nlp.polish`, solved as its two independent parts: with the
     flowing faces fixed, ``min alpha`` involves only the statics (alpha, xh: equilibrium,
     s = 0 on the flowing faces, s >= 0 elsewhere) and the kinematics (vh, lamh >= 0 on the
     flowing faces, 0 elsewhere: flow and normalisation) is a feasibility problem. Two LPs of
@@ -146,7 +146,7 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray 
 
 def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend=None) -> dict:
     """One start: iterate, check each LP point, snap near complementarity (with the LP
-    ``backend`` of :mod:`limit.lpsub`, default each of :data:`SNAP_BACKENDS` in turn). Returns
+    ``backend`` of :mod:`limit.solve.lpsub`, default each of :data:`SNAP_BACKENDS` in turn). Returns
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
     t0 = time.perf_counter()
     backends = SNAP_BACKENDS if backend is None else (backend,)

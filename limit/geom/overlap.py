@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import linprog
 
-from . import broadphase, facetable
-from .errors import SceneError
+from limit.geom import broadphase, facetable
+from limit.errors import SceneError
 
 
 def separation(ft: facetable.FaceTable, a: np.ndarray, b: np.ndarray, chunk: int = 100_000) -> np.ndarray:

@@ -1,11 +1,11 @@
 """A structured primal-dual interior point method for the static LP (step 1), for large scenes.
 
-Solves the scaled static LP of :mod:`limit.lp`::
+Solves the scaled static LP of :mod:`limit.solve.lp`::
 
     minimise -alpha  s.t.  Eh x + fLh alpha = -f0h,   Yh x + s = c,  s >= 0
 
 (c = 0 for the LP of step 1; the iterative LP of step 2 moves the friction
-capacities mu N* into c, :mod:`limit.iterative_lp`)
+capacities mu N* into c, :mod:`limit.solve.iterative_lp`)
 
 with Mehrotra's predictor-corrector (Gondzio's extra centrality correctors were
 tried: 10-15 % fewer iterations, more time, so not used). Its dual variables are the mechanism
@@ -26,7 +26,7 @@ handled by a rank-one Schur complement.
 The method has no infeasibility detection: when it does not converge, its
 status is "failed" and :func:`limit.analysis.solve_lp` asks the next solver
 (Clarabel), whose statuses cover unbounded and infeasible problems. Every
-answer is verified a posteriori (:mod:`limit.verify`) like any solver's.
+answer is verified a posteriori (:mod:`limit.solve.verify`) like any solver's.
 Requires every interface's yield rows to span its actions (true for the
 paper's and the vertex model: no action is free of all faces).
 """

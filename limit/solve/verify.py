@@ -14,6 +14,9 @@ work), so the tolerances below are dimensionless:
 * multipliers  ``min(lam)``                              >= -TOL_KIN
 * normalisation ``|fL . u - 1|``                         <= TOL_KIN
 * duality gap  ``|alpha - (-f0 . u - dissipation)| / max(1, |alpha|)`` <= TOL_GAP
+  (associative); for a frictional point instead the complementarity
+  ``sum |lam s| / max(1, |alpha|)`` <= TOL_COMP and alpha not above the LP's
+  (relative to max(1, alpha_LP)) by more than TOL_GAP.
 """
 from __future__ import annotations
 
@@ -24,6 +27,10 @@ TOL_EQ = 1e-6
 TOL_YIELD = 1e-6
 TOL_KIN = 1e-6
 TOL_GAP = 1e-6
+TOL_COMP = 1e-6
+#: the limits every answer meets (the associative LP's and a frictional point's)
+LIMITS = {"equilibrium": TOL_EQ, "block_equilibrium": TOL_EQ, "yield": TOL_YIELD, "compatibility": TOL_KIN,
+          "multipliers": TOL_KIN, "normalisation": TOL_KIN}
 
 
 def _inf(v) -> float:
@@ -83,7 +90,13 @@ def check_lp(P, sol) -> tuple[bool, dict, str]:
     alpha_kin = float(-P.f0 @ sol.u)
     r["alpha_kinematic"] = alpha_kin
     r["duality_gap"] = abs(sol.alpha - alpha_kin) / max(1.0, abs(sol.alpha))
-    limits = {"equilibrium": TOL_EQ, "block_equilibrium": TOL_EQ, "yield": TOL_YIELD, "compatibility": TOL_KIN,
-              "multipliers": TOL_KIN, "normalisation": TOL_KIN, "duality_gap": TOL_GAP}
-    bad = [f"{k} residual {r[k]:.2e} > {lim:.0e}" for k, lim in limits.items() if not (r[k] <= lim)]
-    return not bad, r, "; ".join(bad)
+    ok, reason = judge(r, duality_gap=TOL_GAP)
+    return ok, r, reason
+
+
+def judge(r: dict, **extra: float) -> tuple[bool, str]:
+    """(ok, reason) of residuals ``r`` against :data:`LIMITS` and the ``extra`` limits
+    (name=limit); a missing or NaN residual fails."""
+    bad = [f"{k} residual {r.get(k, float('nan')):.2e} > {lim:.0e}" for k, lim in {**LIMITS, **extra}.items()
+           if not (r.get(k, float("nan")) <= lim)]
+    return not bad, "; ".join(bad)

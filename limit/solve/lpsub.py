@@ -13,6 +13,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
+from limit.solve.solvers import SUBPROBLEM_BACKENDS
+
 
 class LPResult:
     def __init__(self, ok, z=None, status="", fun=None):
@@ -27,7 +29,7 @@ def solve(c, Aeq, beq, Aub, bub, lo, hi, backend: str = "highs", tol: float = 1e
         return LPResult(res.status == 0, res.x if res.status == 0 else None, res.message, res.fun)
     if backend == "clarabel":
         return _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol)
-    raise ValueError(f"unknown LP backend {backend!r}")
+    raise ValueError(f"unknown LP backend {backend!r} (one of {', '.join(SUBPROBLEM_BACKENDS)})")
 
 
 def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol):

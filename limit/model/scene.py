@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import geometry
-from .errors import SceneError
+from limit.geom import geometry
+from limit.errors import SceneError
 
 FORMAT = "blockscene/1"
 DEFAULT_FRICTION = 0.6
@@ -84,9 +84,9 @@ class Scene:
     path: str | None = None
     sliding_faces: int | None = None   # 3D friction model declared by the scene (interfaces.sliding_faces)
     slide_fit: str | None = None
-    demand: object = None              # limit.seismic_demand.Demand of the file's "demand", or None
+    demand: object = None              # limit.model.seismic_demand.Demand of the file's "demand", or None
     fc: float | None = None            # its confidence factor (demand.fc), or None
-    symmetry: str = "none"             # "mirror": declared mirror-symmetric (limit.symmetry checks it)
+    symmetry: str = "none"             # "mirror": declared mirror-symmetric (limit.verdict.symmetry checks it)
 
     @property
     def n_blocks(self) -> int:
@@ -268,8 +268,8 @@ def _schema_message(err, data) -> str:
 def _unknown_keys(data: dict, strict: bool) -> None:
     import warnings
 
-    from .errors import SceneWarning
-    from .scene_keys import unknown_keys
+    from limit.errors import SceneWarning
+    from limit.model.scene_keys import unknown_keys
 
     msgs = [f"{_where(path + (key,), data)}: unknown key" + (f" (did you mean '{near}'?)" if near else "")
             for path, key, near in unknown_keys(data)]
@@ -280,12 +280,12 @@ def _unknown_keys(data: dict, strict: bool) -> None:
 
 
 def _demand(d: dict | None):
-    """The file's "demand" as a :class:`limit.seismic_demand.Demand` (None without one); its
+    """The file's "demand" as a :class:`limit.model.seismic_demand.Demand` (None without one); its
     rules beyond the schema's (TB < TC < TD; H, N and T1 with Z > 0) raise SceneError naming
     the key."""
     if d is None:
         return None
-    from .seismic_demand import Demand
+    from limit.model.seismic_demand import Demand
 
     try:
         return Demand(**{k: v for k, v in d.items() if k != "fc"})
@@ -390,7 +390,7 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
                   demand=_demand(data.get("demand")), fc=(data.get("demand") or {}).get("fc"),
                   symmetry=data.get("symmetry", "none"))
     if check_overlaps:
-        from .overlap import check_overlaps as _check
+        from limit.geom.overlap import check_overlaps as _check
 
         _check(scene)
     return scene

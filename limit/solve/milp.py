@@ -1,6 +1,6 @@
 """Global minimum of the frictional problem for small scenes, as a mixed-integer LP.
 
-The NLP of :mod:`limit.nlp_problem` is linear but for the complementarity
+The NLP of :mod:`limit.solve.nlp_problem` is linear but for the complementarity
 ``lam_j s_j = 0`` of every yield face j. With one binary y_j per face
 (y_j = 1: the face may flow and its slack is zero; y_j = 0: it holds and its
 multiplier is zero) and bounds
@@ -28,8 +28,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import Bounds, LinearConstraint, milp
 
-from . import lpsub
-from .nlp_problem import build
+from limit.solve import lpsub
+from limit.solve.nlp_problem import build
 
 
 def _bounds(N, P, alpha_ub, deadline):

@@ -54,7 +54,7 @@ def weights(scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def horizontal_direction(scene) -> np.ndarray:
     """Unit vector (d,) of the live load's resultant force with its component along gravity
     removed; raises ValueError when the live load has no horizontal resultant."""
-    from .loads import dead_and_live
+    from limit.model.loads import dead_and_live
 
     _, fL = dead_and_live(scene)
     F = fL[:, :scene.dim].sum(axis=0)

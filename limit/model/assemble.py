@@ -2,9 +2,9 @@
 
 Notation (all unscaled, SI units):
 
-* ``u`` (n_dof,) free-block velocities (:mod:`limit.kinematics`),
+* ``u`` (n_dof,) free-block velocities (:mod:`limit.model.kinematics`),
   ``B`` (m nq, n_dof) the compatibility matrix, ``q = B u``.
-* ``x`` (n_x,) interface actions of the chosen model (:mod:`limit.yield_domain`),
+* ``x`` (n_x,) interface actions of the chosen model (:mod:`limit.model.yield_domain`),
   ``r = H x`` the interface generalised stresses.
 * Equilibrium: ``E x + f0 + alpha fL = 0`` with ``E = B.T H`` (= ``A.T``).
 * Yield: ``Y x <= 0``. Flow: associative ``A u = -Y.T lam``, non-associative
@@ -12,7 +12,7 @@ Notation (all unscaled, SI units):
 
 Scaling (what the solvers see): variables ``x = Dx * xh`` with each interface's
 force components divided by an estimate of its normal force
-(:mod:`limit.scaling`) and its moments by that force times the contact's half
+(:mod:`limit.model.scaling`) and its moments by that force times the contact's half
 size; every equilibrium row (``Df``) and every yield row (``Sy``) divided by
 its largest coefficient after that. So neither the units, the scene's size,
 the spread of forces between the top and the foot of a wall, nor a large
@@ -28,8 +28,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from . import kinematics, loads, scaling, yield_domain
-from .interfaces import Interfaces, find_interfaces
+from limit.model import kinematics, loads, scaling, yield_domain
+from limit.geom.interfaces import Interfaces, find_interfaces
 
 
 @dataclass
@@ -37,7 +37,7 @@ class Options:
     """Modelling options. ``model``: "paper" or "vertex" interfaces; ``n_slide``:
     sliding faces per interface (3D; 4 is the paper's; None: the scene's
     ``interfaces.sliding_faces``, else :data:`DEFAULT_SLIDE_FACES`); ``slide_fit``:
-    "auto" | "circumscribed" | "inscribed" (see :mod:`limit.yield_domain`; with
+    "auto" | "circumscribed" | "inscribed" (see :mod:`limit.model.yield_domain`; with
     ``n_slide`` None, the scene's ``interfaces.slide_fit`` where it gives one)."""
 
     model: str = "paper"
@@ -102,7 +102,7 @@ def _check_contacts(scene, I) -> None:
     """SceneError when the scene has no interface at all, naming its free blocks (nothing could
     hold them, and the problem would have no row); a loose block among touching ones is the
     LP's "infeasible", with the block named (limit.analysis)."""
-    from .errors import SceneError
+    from limit.errors import SceneError
 
     if len(I):  # a loose block among others: the LP answers "infeasible" and names it
         return
@@ -138,7 +138,7 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     g = float(np.linalg.norm(scene.gravity))
     Wc = float(np.mean([scene.blocks[i].mass for i in free]) * g) if len(free) else 1.0
     # Variables scaled by each interface's estimated force (moments by force x half size of the contact),
-    # equilibrium rows by their largest coefficient after that (see limit.scaling).
+    # equilibrium rows by their largest coefficient after that (see limit.model.scaling).
     half = I.l1 if scene.dim == 2 else 0.5 * np.sqrt(np.maximum(I.area, 1e-300))
     Dx = s_k[model.x_iface] * np.where(model.x_is_moment, half[model.x_iface], 1.0)
     E = A.T.tocsr()
