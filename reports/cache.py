@@ -22,7 +22,6 @@ from functools import lru_cache
 from pathlib import Path
 
 from limit import jsonio
-
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_DIR = ROOT / ".cache" / "results"
 #: packages whose source decides each stage's result

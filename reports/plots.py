@@ -78,7 +78,7 @@ def mechanism_figure(scene, la: dict, dem: dict | None, path) -> bool:
         return False
     I = None
     if scene.dim == 2:
-        from limit.interfaces import find_interfaces
+        from limit.geom.interfaces import find_interfaces
 
         I = find_interfaces(scene)
     n = len(panels)
@@ -248,7 +248,7 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
     trials (rigid blocks: each trial starts from rest, so its points are the ends of the
     trials that held, at a few micrometres, and its x the lowest that collapsed); dashed
     lines at the limit analysis's alpha (frictional where it ran), at YADE's extrapolated
-    alpha and at LMGC90's; and ``kinematic`` (:func:`limit.capacity_curve.follow`): the limit
+    alpha and at LMGC90's; and ``kinematic`` (:func:`limit.verdict.capacity_curve.follow`): the limit
     analysis's mechanism followed at finite displacement, alpha against its work-conjugate
     displacement. False (no figure) when there is nothing to draw."""
     pts = capacity_points(dem or {})

@@ -220,7 +220,7 @@ def _cls(status):
 
 
 def report(df, files, results: dict, out: Path, wall_time: float | None = None) -> None:
-    from limit.scene import load_scene
+    from limit.model.scene import load_scene
 
     out = Path(out)
     figs = out / "figures"

@@ -101,7 +101,7 @@ def dem_model_text(dem: dict) -> str:
 
 
 def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None, cone: dict | None = None) -> dict:
-    from limit.scene import load_scene
+    from limit.model.scene import load_scene
 
     data = json.loads(Path(path).read_text())
     meta = data.get("meta") or {}

@@ -1,9 +1,9 @@
 """The report's engineering verdict: the code check of the local mechanism of every catalog
 scene that states a seismic demand (its "demand" key; the check itself is the LA result's
-"verdict", limit.local_check), with the formulas and their sources."""
+"verdict", limit.verdict.local_check), with the formulas and their sources."""
 from __future__ import annotations
 
-from limit.local_check import step_mechanism, verdict_lines
+from limit.verdict.local_check import step_mechanism, verdict_lines
 
 #: (step, alpha, mechanism) of an LA result: one home, in the library
 la_mechanism = step_mechanism
@@ -23,7 +23,7 @@ FORMULAS = ("Formulas: participating mass M* = (sum P_i dx_i)^2 / (g sum P_i dx_
 def kinematic_curve(scene, la: dict) -> dict | None:
     """The LA mechanism followed at finite displacement (rocking mechanisms), or None: the
     verdict's curve when the scene states a demand, else followed here."""
-    from limit.capacity_curve import follow
+    from limit.verdict.capacity_curve import follow
 
     v = (la or {}).get("verdict") or {}
     if v.get("curve"):

@@ -95,7 +95,7 @@ def main(argv=None) -> int:
 
 def _run(args) -> int:
     from limit.errors import SceneError
-    from limit.scene import load_scene
+    from limit.model.scene import load_scene
 
     scene = load_scene(args.scene)
     merged = {}

@@ -9,7 +9,7 @@ from pathlib import Path
 def section(results: dict, by_name: dict, figs: Path) -> list[str]:
     """Markdown lines (headings, items, images ``![alt](figures/...)``); the figures are written
     to ``figs``. Empty when no scene has a sweep."""
-    from limit.scene import load_scene
+    from limit.model.scene import load_scene
 
     from . import plots
 
