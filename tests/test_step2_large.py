@@ -83,6 +83,23 @@ def test_a_failed_check_is_failed_never_a_number(monkeypatch):
     assert part["status"] == "failed" and part["alpha"] is None and part["route"] == "iterative-lp"
 
 
+def test_a_start_whose_residual_stalls_stops_early(monkeypatch):
+    """A start that never reaches a checked point and whose complementarity residual has no
+    new low (forced: 1.0 at every LP) halves its relaxation every STALL LPs down to OMEGA_MIN,
+    then stops as stalled after STALL more, long before MAX_ITER; it is never a number."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
+    (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
+    r = step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
+    halvings = 0
+    om = step2_large.OMEGA[2]
+    while om > step2_large.OMEGA_MIN:
+        om, halvings = om / 2, halvings + 1
+    assert not r["verified"] and r["z"] is None and r["reason"].startswith("stalled")
+    assert r["omega"] == step2_large.OMEGA_MIN
+    assert r["iterations"] == (halvings + 1) * step2_large.STALL + 1 < step2_large.MAX_ITER
+
+
 def test_large_scenes_take_the_large_route(monkeypatch):
     """solver='auto' picks the route by size (LARGE_MIN_FREE free blocks)."""
     monkeypatch.setattr(step2, "LARGE_MIN_FREE", 5)

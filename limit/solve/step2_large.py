@@ -45,7 +45,9 @@ from limit.solve.nlp_problem import build
 
 #: relaxation of N* per dimension (see the module docstring), halved (down to OMEGA_MIN) each time
 #: the complementarity residual has not reached a new low for STALL LPs: at 3,052 2D blocks omega = 1
-#: oscillated (alpha 0.19 to 0.38 for 40 LPs) and 0.5 settled to a residual of 2e-3 in 37 LPs
+#: oscillated (alpha 0.19 to 0.38 for 40 LPs) and 0.5 settled to a residual of 2e-3 in 37 LPs. A
+#: start whose residual has no new low for STALL LPs at OMEGA_MIN stops as stalled: its budget goes
+#: to the others (the 3,052-block wall's 0.5 mu start held its core for the whole 11 minutes)
 OMEGA = {2: 1.0, 3: 0.5}
 OMEGA_MIN = 0.125
 STALL = 8
@@ -152,6 +154,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     backends = SNAP_BACKENDS if backend is None else (backend,)
     found: dict = {}
     snaps = [0]
+    stalled: list = []
     retry_below = [SNAP_COMP]
     relax = {"omega": OMEGA[P.scene.dim], "best": np.inf, "best_it": 0}
 
@@ -166,6 +169,9 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             relax.update(best=comp, best_it=it)
         elif it - relax["best_it"] >= STALL and relax["omega"] > OMEGA_MIN:
             relax.update(omega=relax["omega"] / 2.0, best_it=it)
+        elif it - relax["best_it"] >= STALL:  # no new low for STALL LPs at the smallest relaxation
+            stalled.append(it)
+            return True
         if comp < retry_below[0]:
             snaps[0] += 1
             for bk in backends:
@@ -194,7 +200,11 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
            "omega": relax["omega"]}
     if found:
         return {**rec, "verified": True, "alpha": float(found["z"][N.ia]), "z": found["z"], "how": found["how"]}
-    why = out.get("reason") or ("time budget spent" if out["status"] == "stopped" else out["status"])
+    if stalled:
+        why = (f"stalled: the complementarity residual had no new low ({relax['best']:.1e}) for {STALL} LPs "
+               f"at the smallest relaxation {OMEGA_MIN:g}")
+    else:
+        why = out.get("reason") or ("time budget spent" if out["status"] == "stopped" else out["status"])
     return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
 
 
