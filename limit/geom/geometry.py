@@ -100,6 +100,24 @@ def box(center, size, rotation=None) -> Polytope:
     return Polytope(verts, normals, offsets, faces, float(np.prod(2 * h)), c.copy())
 
 
+def _centred_hull(points, tol, n_min: int, few: str, flat: str):
+    """(points (n, d), their largest extent, the on-hull tolerance (default 1e-9 x extent), their
+    mean o, the convex hull of points - o): centred, for accurate normals far from the origin.
+    GeometryError ``few`` for fewer than ``n_min`` points or no extent, ``flat`` when Qhull finds
+    no full-dimensional hull."""
+    pts = np.asarray(points, dtype=float)
+    scale = float(np.ptp(pts, axis=0).max()) if len(pts) else 0.0
+    tol = 1e-9 * max(scale, 1e-300) if tol is None else tol
+    if len(pts) < n_min or scale <= 0:
+        raise GeometryError(few)
+    o = pts.mean(axis=0)
+    try:
+        hull = ConvexHull(pts - o)
+    except QhullError:
+        raise GeometryError(flat) from None
+    return pts, scale, tol, o, hull
+
+
 def polygon(points, tol: float | None = None, check_interior: bool = True) -> Polytope:
     """Convex polygon, the convex hull of ``points`` (n, 2).
 
@@ -107,16 +125,8 @@ def polygon(points, tol: float | None = None, check_interior: bool = True) -> Po
     ``check_interior``, for points strictly inside the hull (a non-convex
     outline). ``tol`` is the length below which a point counts as on the hull.
     """
-    pts = np.asarray(points, dtype=float)
-    scale = float(np.ptp(pts, axis=0).max()) if len(pts) else 0.0
-    tol = 1e-9 * max(scale, 1e-300) if tol is None else tol
-    if len(pts) < 3 or scale <= 0:
-        raise GeometryError("needs at least three distinct vertices")
-    o = pts.mean(axis=0)
-    try:
-        hull = ConvexHull(pts - o)
-    except QhullError:
-        raise GeometryError("vertices are collinear (the polygon has no area)") from None
+    pts, scale, tol, o, hull = _centred_hull(points, tol, 3, "needs at least three distinct vertices",
+                                             "vertices are collinear (the polygon has no area)")
     if hull.volume <= (1e-12 * scale) * scale:
         raise GeometryError("vertices are collinear (the polygon has no area)")
     if check_interior:
@@ -147,16 +157,8 @@ def polyhedron(points, tol: float | None = None, check_interior: bool = True) ->
     GeometryError for coplanar points and, when ``check_interior``, for points
     strictly inside the hull.
     """
-    pts = np.asarray(points, dtype=float)
-    scale = float(np.ptp(pts, axis=0).max()) if len(pts) else 0.0
-    tol = 1e-9 * max(scale, 1e-300) if tol is None else tol
-    if len(pts) < 4 or scale <= 0:
-        raise GeometryError("needs at least four vertices that are not coplanar")
-    o = pts.mean(axis=0)
-    try:
-        hull = ConvexHull(pts - o)  # centred: accurate normals far from the origin
-    except QhullError:
-        raise GeometryError("vertices are coplanar (the block has no volume)") from None
+    pts, scale, tol, o, hull = _centred_hull(points, tol, 4, "needs at least four vertices that are not coplanar",
+                                             "vertices are coplanar (the block has no volume)")
     if hull.volume <= 1e-12 * scale**3:
         raise GeometryError("vertices are coplanar (the block has no volume)")
     if check_interior:
