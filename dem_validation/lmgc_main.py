@@ -63,6 +63,7 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
         t = trial(a)
         history.append({"phase": phase, "alpha": a, "outcome": t["outcome"], "steps": t["steps"],
                         "motion": t["motion"], "control": t.get("control"), "rest": bool(t.get("rest")),
+                        "settled": t.get("settled"),
                         "why": f"moved {t['motion']:.3g} m in {t['time']:.3g} s" + (", at rest" if t.get("rest") else "")})
         if emit is not None:
             emit({"phase": phase, "alpha": a, "outcome": t["outcome"], "step": sum(h["steps"] for h in history)})

@@ -190,7 +190,8 @@ class RigidScene:
         never come to rest by speed, while a collapse's motion grows in every window. A
         collapse is told by its motion only: an earlier call on a block speeding up read
         the 55-voussoir double arch's slow creep as collapses, 0.092 for 0.125. Returns outcome (stable|collapse), motion (m), steps, time (s),
-        rest (True when it ended at rest) and the free blocks' (u, rotation vector) in scene axes
+        rest (True when it ended at rest), settled (how: "speed" or "level", None when it did not) and
+        the free blocks' (u, rotation vector) in scene axes
         at the end."""
         t_load, t_ramp, t_hold = p["t_load"], p["t_ramp"], p["t_hold"]
         sim = self.build(alpha, t_load, t_ramp)
@@ -201,7 +202,7 @@ class RigidScene:
         n_steps = int(math.ceil((t_load + t_ramp + t_hold) / self.dt))
         rest_from = int(math.ceil((t_load + t_ramp + p["t_rest"]) / self.dt))
         window = max(1, int(round(0.5 * p["t_rest"] / self.dt)))
-        motion, steps, state, rest, marks, level = 0.0, 0, None, False, {}, []
+        motion, steps, state, rest, marks, level = 0.0, 0, None, None, {}, []
         for steps in range(1, n_steps + 1):
             state = sim.compute_one_step()
             moves = self._move_vectors(state, x0, F0)
@@ -216,15 +217,16 @@ class RigidScene:
                 before = marks.pop(steps - window, None)
                 if steps >= rest_from and before is not None:
                     if _fastest(moves - before) / (window * self.dt) < p["v_rest"]:
-                        rest = True
+                        rest = "speed"
                         break
                     if len(level) >= 3 and motion <= max(level[-3:-1]):
-                        rest = True  # rattling in place: the motion has not grown over two windows
+                        rest = "level"  # rattling in place: the motion has not grown over two windows
                         break
         disp = self._displacements(state, x0, F0) if state is not None else {}
         control = self._control(state, x0, F0) if state is not None else 0.0
         return {"alpha": alpha, "outcome": "collapse" if motion > limit else "stable", "motion": motion,
-                "control": control, "steps": steps, "time": steps * self.dt, "rest": rest, "displacement": disp}
+                "control": control, "steps": steps, "time": steps * self.dt, "rest": rest is not None,
+                "settled": rest, "displacement": disp}
 
     def _control(self, state, x0, F0) -> float:
         """Work conjugate of alpha (m), as the YADE side's: sum_i fL_i . (u_i, rotation_i)

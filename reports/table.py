@@ -17,7 +17,8 @@ Columns (alpha values dimensionless, times in seconds):
   ``dem_vs_la`` (DEM against the frictional limit analysis);
 * ``lmgc_*``: the LMGC90 run (rigid contacts), as ``dem_*``, with ``lmgc_err``,
   ``lmgc_vs_la`` and ``lmgc_similarity`` (all empty when LMGC90 did not run), and
-  ``lmgc_creep`` (a trial that held ran its whole hold without coming to rest: the blocks crept);
+  ``lmgc_creep`` (a trial that held never came to rest by speed: its blocks crept through the hold
+  or rattled in place);
 * ``cone_*``: the limit analysis of a 3D scene with 24 inscribed sliding faces (a
   near-circular friction cone, as in both dynamic engines): ``cone_status``,
   ``cone_lp_alpha``, ``cone_alpha`` (frictional, NLP), ``cone_time_s``, and
@@ -151,7 +152,8 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     r.update(lmgc_status=lm.get("status"), lmgc_alpha=lm.get("alpha"), lmgc_time_s=lm.get("time_s"),
              lmgc_reason=lm.get("reason", lm.get("note", "")), lmgc_uncertainty=lm.get("alpha_uncertainty"),
              lmgc_dead=bool(lm.get("dead_load_collapse")),
-             lmgc_creep=any(h.get("outcome") == "stable" and not h.get("rest") for h in lm.get("history") or []))
+             lmgc_creep=any(h.get("outcome") == "stable" and h.get("settled", "speed" if h.get("rest") else None)
+                            != "speed" for h in lm.get("history") or []))
     r["lmgc_err"] = _rel(r["lmgc_alpha"], exp.get("alpha"))
     r["lmgc_vs_la"] = _rel(r["lmgc_alpha"], r["fric_alpha"])
     cl, cn = (cone or {}).get("lp") or {}, (cone or {}).get("nlp") or {}

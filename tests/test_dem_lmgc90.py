@@ -99,7 +99,7 @@ def test_stable_trials_end_once_at_rest_and_the_answer_stays():
     stable = [h for h in dem["history"] if h["outcome"] == "stable"]
     collapse = [h for h in dem["history"] if h["outcome"] == "collapse"]
     full = round((p["t_load"] + p["t_ramp"] + 5.0) / p["dt"])
-    assert stable and all(h["rest"] and h["steps"] < full / 5 for h in stable)
+    assert stable and all(h["rest"] and h["settled"] == "speed" and h["steps"] < full / 5 for h in stable)
     assert all(h["alpha"] <= 0.3 * (1 + 1e-12) and abs(h["control"]) < 1e-5 for h in stable)  # 0.3 holds
     assert collapse and all(h["alpha"] >= 0.3 * (1 - 1e-12) and not h["rest"] for h in collapse)
     # one 0.1 % or more above 0.3 is told long before the hold ends (at 0.3 itself, a knife edge, late)

@@ -416,8 +416,10 @@ def test_sweep_stage_and_its_report_section(tmp_path):
 
 
 def test_lmgc_creep_is_a_held_trial_that_never_came_to_rest(tmp_path):
-    """``lmgc_creep`` flags an LMGC90 run with a trial that held without coming to rest (any
-    trial: a search from a guess has no alpha = 0 trial), and only that."""
+    """``lmgc_creep`` flags an LMGC90 run with a trial that held without coming to rest by
+    speed (any trial: a search from a guess has no alpha = 0 trial): one that ran out its
+    hold, or ended because its blocks rattled in place ("level"); a result cached before
+    ``settled`` existed counts ``rest`` as the speed rule."""
     import json
 
     from reports.table import row
@@ -428,9 +430,12 @@ def test_lmgc_creep_is_a_held_trial_that_never_came_to_rest(tmp_path):
     path.write_text(json.dumps(data))
     la = {"lp": {"status": "optimal", "alpha": 0.3}, "nlp": {"status": "skipped", "alpha": 0.3}}
 
-    def lm(rest):
+    def lm(rest, **settled):
         return {"status": "collapsed", "alpha": 0.3, "history": [
-            {"phase": "load", "alpha": 0.29, "outcome": "stable", "rest": rest},
-            {"phase": "load", "alpha": 0.31, "outcome": "collapse", "rest": False}]}
+            {"phase": "load", "alpha": 0.29, "outcome": "stable", "rest": rest, **settled},
+            {"phase": "load", "alpha": 0.31, "outcome": "collapse", "rest": False, "settled": None}]}
     assert row(path, la, None, lm(False))["lmgc_creep"] is True
     assert row(path, la, None, lm(True))["lmgc_creep"] is False
+    assert row(path, la, None, lm(True, settled="speed"))["lmgc_creep"] is False
+    assert row(path, la, None, lm(True, settled="level"))["lmgc_creep"] is True
+    assert row(path, la, None, lm(False, settled=None))["lmgc_creep"] is True
