@@ -75,9 +75,14 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
                 "alpha_hi": hi, "dead_load_collapse": dead, "history": history,
                 "steps": sum(h["steps"] for h in history), "displacement": collapse}
 
-    def settle():
+    def dead_load():
+        """The alpha = 0 trial: the dead-load collapse result when it collapses, else None."""
+        nonlocal hi, collapse
         t = run(0.0, "settle")
-        return t["outcome"] != "stable", t
+        if t["outcome"] == "stable":
+            return None
+        collapse, hi = t["displacement"], 0.0
+        return result("collapsed", dead=True)
 
     m = p["hint_margin"]
     if hint:
@@ -99,10 +104,9 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
             while True:  # downwards: 1 - 3m, 1 - 7m, ... while above zero
                 a = hint * (1.0 - m * (2 ** (k + 1) - 1))
                 if a <= 0.0:
-                    dead, t0 = settle()
-                    if dead:
-                        collapse, hi = t0["displacement"], 0.0
-                        return result("collapsed", dead=True)
+                    dead = dead_load()
+                    if dead is not None:
+                        return dead
                     break
                 t = run(a, "load")
                 if t["outcome"] == "stable":
@@ -110,10 +114,9 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
                     break
                 hi, collapse, k = a, t["displacement"], k + 1
     else:
-        dead, t = settle()
-        if dead:
-            collapse, hi = t["displacement"], 0.0
-            return result("collapsed", dead=True)
+        dead = dead_load()
+        if dead is not None:
+            return dead
         a = p["step0"]
         while hi is None:
             t = run(a, "load")
