@@ -23,6 +23,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+from limit.model.dims import rigid_velocity  # noqa: E402
 
 AMPLIFY = 0.08
 COLORS = {"lp": "#4c72b0", "nlp": "#dd8452", "dem": "#55a868", "ref": "black", "global": "#8172b3"}
@@ -38,12 +39,7 @@ def _moved(scene, per_block: dict, scale: float):
         if m is None:
             continue
         m = np.asarray(m, dtype=float) * scale
-        r = b.poly.vertices - b.centroid
-        if scene.dim == 2:
-            v = b.poly.vertices + m[:2] + m[2] * np.column_stack([-r[:, 1], r[:, 0]])
-        else:
-            v = b.poly.vertices + m[:3] + np.cross(m[3:6], r)
-        out[i] = v
+        out[i] = b.poly.vertices + rigid_velocity(m, b.poly.vertices - b.centroid, scene.dim)
     return out
 
 

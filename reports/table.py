@@ -35,6 +35,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from limit.model.dims import rigid_velocity
+
 
 def vertex_motion(scene, per_block: dict) -> np.ndarray:
     """Velocities of all free-block vertices (flattened) of a per-block rigid motion."""
@@ -45,13 +47,7 @@ def vertex_motion(scene, per_block: dict) -> np.ndarray:
         m = per_block.get(b.id)
         if m is None:
             return None
-        m = np.asarray(m, dtype=float)
-        r = b.poly.vertices - b.centroid
-        if d == 2:
-            v = m[:2] + m[2] * np.column_stack([-r[:, 1], r[:, 0]])
-        else:
-            v = m[:3] + np.cross(m[3:6], r)
-        out.append(v.ravel())
+        out.append(rigid_velocity(m, b.poly.vertices - b.centroid, d).ravel())
     return np.concatenate(out) if out else None
 
 

@@ -19,14 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
+from limit.model.dims import rigid_velocity
+
 
 def _vertex_motion(block, m, dim):
-    m = np.asarray(m, dtype=float)
-    r = block.poly.vertices - block.centroid
-    if dim == 2:
-        v = m[:2] + m[2] * np.column_stack([-r[:, 1], r[:, 0]])
-        return np.column_stack([v, np.zeros(len(v))])
-    return m[:3] + np.cross(m[3:6], r)
+    v = rigid_velocity(m, block.poly.vertices - block.centroid, dim)
+    return np.column_stack([v, np.zeros(len(v))]) if dim == 2 else v
 
 
 def motions_of(result: dict) -> dict:

@@ -22,6 +22,7 @@ import numpy as np
 
 from limit.geom import geometry
 from limit.errors import SceneError
+from limit.model import dims
 
 FORMAT = "blockscene/1"
 DEFAULT_FRICTION = 0.6
@@ -104,7 +105,7 @@ class Scene:
     @property
     def ndof(self) -> int:
         """Degrees of freedom per free block: 3 in 2D (ux, uy, rz), 6 in 3D."""
-        return 3 if self.dim == 2 else 6
+        return dims.ndof(self.dim)
 
     def block_index(self) -> dict:
         return {b.id: b.index for b in self.blocks}

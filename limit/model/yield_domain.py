@@ -41,6 +41,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from limit.model import dims
+
 ROCK, SLIDE, TWIST, NORMAL = 0, 1, 2, 3
 KIND_NAMES = {ROCK: "rock", SLIDE: "slide", TWIST: "twist", NORMAL: "normal"}
 BETA = 2.0 / 3.0
@@ -156,7 +158,7 @@ def _edge_rows(loc):
 def _paper(I, n_slide, fit) -> InterfaceModel:
     m = len(I)
     dim = I.dim
-    nq = 3 if dim == 2 else 6
+    nq = dims.ndof(dim)
     k = np.arange(m)
     mu = I.mu
     rows = _Rows()
@@ -189,8 +191,8 @@ def _paper(I, n_slide, fit) -> InterfaceModel:
     n_x = m * nq
     Y, G, kind, iface = rows.matrices(n_x)
     comp = np.tile(np.arange(nq), m)
-    is_moment = comp >= (2 if dim == 2 else 3)
-    normal = comp == (1 if dim == 2 else 2)
+    is_moment = comp >= dims.first_moment_index(dim)
+    normal = comp == dims.normal_index(dim)
     return InterfaceModel("paper", Y, G, sp.identity(n_x, format="csr"), kind, iface,
                           np.repeat(k, nq), is_moment, normal)
 
@@ -198,7 +200,7 @@ def _paper(I, n_slide, fit) -> InterfaceModel:
 def _vertex(I, n_slide, fit) -> InterfaceModel:
     m = len(I)
     dim = I.dim
-    nq = 3 if dim == 2 else 6
+    nq = dims.ndof(dim)
     nv = np.array([len(p) for p in I.local])
     vptr = np.concatenate([[0], np.cumsum(nv)])
     nvert = int(vptr[-1])

@@ -6,6 +6,7 @@ import numpy as np
 
 from limit.solve import mechanism
 from limit.model.assemble import Assembled
+from limit.model.dims import STRESS_NAMES
 
 
 def lp_result(P: Assembled, sol, attempts, residuals, t_total: float) -> dict:
@@ -35,7 +36,7 @@ def interfaces_part(P, r, cls) -> dict:
     nq = P.scene.ndof
     return {
         "pairs": [list(p) for p in P.I.pairs(P.scene)],
-        "stress_components": ["V", "N", "M"] if P.scene.dim == 2 else ["V1", "V2", "N", "M1", "M2", "T"],
+        "stress_components": list(STRESS_NAMES[P.scene.dim]),
         "stress": np.asarray(r).reshape(-1, nq).tolist(),
         **{k: np.flatnonzero(v).tolist() for k, v in cls.items()},
     }

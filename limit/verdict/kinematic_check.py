@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from limit.model.dims import rigid_velocity
+
 #: a point of application moves when its speed exceeds this fraction of the largest
 MOVING = 1e-6
 #: confidence factor of knowledge level LC1 (NTC 2018 C8.5.4, Table C8.5.IV)
@@ -78,12 +80,7 @@ def point_velocities(scene, mechanism: dict, idx: np.ndarray, pts: np.ndarray) -
         m = mechanism.get(b.id)
         if m is None:
             continue
-        m = np.asarray(m, dtype=float)
-        r = p - b.centroid
-        if d == 2:
-            out[k] = m[:2] + m[2] * np.array([-r[1], r[0]])
-        else:
-            out[k] = m[:3] + np.cross(m[3:], r)
+        out[k] = rigid_velocity(m, p - b.centroid, d)
     return out
 
 
