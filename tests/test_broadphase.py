@@ -1,8 +1,8 @@
-"""limit/geom/broadphase.py (sweep and prune) against brute force and a lattice count by hand."""
+"""limit/geom/_broadphase.py (sweep and prune) against brute force and a lattice count by hand."""
 import numpy as np
 import pytest
 
-from limit.geom.broadphase import candidate_pairs
+from limit.geom._broadphase import candidate_pairs
 
 
 def brute(lo, hi, tol):

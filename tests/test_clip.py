@@ -1,10 +1,10 @@
-"""limit/geom/clip.py ``intersect`` against shapely (test extra, pinned in constraints.txt) and closed forms, on nearly
+"""limit/geom/_clip.py ``intersect`` against shapely (test extra, pinned in constraints.txt) and closed forms, on nearly
 parallel edges. Lengths in m, tol = 1e-6 m unless told."""
 import numpy as np
 import pytest
 from shapely.geometry import Point, Polygon
 
-from limit.geom.clip import intersect
+from limit.geom._clip import intersect
 
 TOL = 1e-6
 

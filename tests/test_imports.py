@@ -69,4 +69,4 @@ def test_data_flows_one_way_through_the_subpackages():
     back = [(m, d) for m, ds in _edges().items() for d in ds
             if d != "limit.errors" and LAYERS.index(_layer(d)) > LAYERS.index(_layer(m))]
     assert not back, f"imports against the data flow {' -> '.join(LAYERS)}: {back}"
-    assert _layer("limit.geom.clip") == "geom" and _layer("limit.analysis") == "top"
+    assert _layer("limit.geom._clip") == "geom" and _layer("limit.analysis") == "top"

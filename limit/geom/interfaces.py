@@ -2,9 +2,9 @@
 
 Two blocks a, b touch where a face of a and a face of b lie in the same plane
 (on the same line in 2D) with opposite outward normals and overlap with
-positive area (length). Broad phase: :mod:`limit.geom.broadphase`; narrow phase:
+positive area (length). Broad phase: :mod:`limit.geom._broadphase`; narrow phase:
 vectorised face-pair tests and, in 3D, a tolerance-aware convex clipping
-(:mod:`limit.geom.clip`).
+(:mod:`limit.geom._clip`).
 
 Local frame of an interface (``normal``, ``t1``, ``t2``)
 -------------------------------------------------------
@@ -29,7 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from limit.geom import broadphase, clip, facetable
+from limit.geom import _broadphase as broadphase, _clip as clip, _facetable as facetable
 from limit.geom.geometry import plane_basis, polygon_area_centroid
 
 #: Faces count as anti-parallel when n_a . n_b < -(1 - ANGLE_TOL).

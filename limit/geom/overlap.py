@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import linprog
 
-from limit.geom import broadphase, facetable
+from limit.geom import _broadphase as broadphase, _facetable as facetable
 from limit.errors import SceneError
 
 

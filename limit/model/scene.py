@@ -270,7 +270,7 @@ def _unknown_keys(data: dict, strict: bool) -> None:
     import warnings
 
     from limit.errors import SceneWarning
-    from limit.model.scene_keys import unknown_keys
+    from limit.model._scene_keys import unknown_keys
 
     msgs = [f"{_where(path + (key,), data)}: unknown key" + (f" (did you mean '{near}'?)" if near else "")
             for path, key, near in unknown_keys(data)]
