@@ -64,9 +64,13 @@ def run_pushovers(job, eps_list, p):
         emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
         prev = runs[-1] if runs and runs[-1]["status"] == "collapsed" and runs[-1].get("alpha_lo") else None
         hint = (prev["alpha_lo"], prev["alpha_hi"]) if prev else None
-        # a softer run only sets the extrapolation's slope (weight 1/3): a wider bracket will do
-        pk = p if k == len(eps_list) - 1 else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
-        run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint)[0]
+        # a softer run only sets the extrapolation's slope (weight 1/3): a wider bracket will do;
+        # the stiffest planned run too when it differs from the one before by more than
+        # refine_rtol, so that a stiffer one follows (Fig. 2b's 6.25e-7 run: two trials of 160k steps)
+        last = k == len(eps_list) - 1
+        pk = p if last else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
+        final = (lambda r: not (runs and extra < int(p["refine_max"]) and _apart(runs[-1], r, p))) if last else None
+        run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint, narrow=final)[0]
         run["sphere_radius"] = model.r
         run["mass_factor"] = model.mass_factor
         runs.append(run)

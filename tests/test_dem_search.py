@@ -236,6 +236,26 @@ def test_a_hinted_run_goes_straight_near_the_softer_collapse(monkeypatch):
     assert len(seen) < 12  # fewer trials than from 0.05 upwards
 
 
+def test_a_run_is_narrowed_only_when_told(fake):
+    """With ``narrow``, a run is bracketed to alpha_rtol_soft (1.5 %) first and narrowed on
+    to alpha_rtol (0.5 %) only when narrow(result) is true; the narrowed run makes the
+    same trials as a run bracketed to alpha_rtol at once (bisection midpoints do not
+    depend on where it paused). alpha_c = 0.3 - 1.2 (1e-5)^(1/3) = 0.2742."""
+    p = P.check({"eps": [1e-5]})
+    crit = 0.3 - 1.2 * 1e-5 ** (1 / 3)
+    strict = pushover.pushover(fake(), p["eps"], p)[0]
+    asked = []
+    wide = pushover.pushover(fake(), p["eps"], p, narrow=lambda r: asked.append(r["alpha_hi"]) and False)[0]
+    narrowed = pushover.pushover(fake(), p["eps"], p, narrow=lambda r: True)[0]
+    width = lambda r: r["alpha_hi"] - r["alpha_lo"]  # noqa: E731
+    assert len(asked) == 1
+    assert wide["alpha_lo"] <= crit < wide["alpha_hi"]
+    assert p["alpha_rtol"] * wide["alpha_hi"] < width(wide) <= p["alpha_rtol_soft"] * wide["alpha_hi"]
+    assert narrowed["alpha_lo"] <= crit < narrowed["alpha_hi"] and width(narrowed) <= p["alpha_rtol"] * narrowed["alpha_hi"]
+    assert [h["alpha"] for h in narrowed["history"]] == [h["alpha"] for h in strict["history"]]
+    assert len(wide["history"]) < len(strict["history"])
+
+
 def test_a_failed_restiffening_tries_the_next_lower_equilibrium(monkeypatch):
     _flaky_restiffen(monkeypatch, 1, False)
     p = P.check({"eps": [1e-4, 1e-5]})
