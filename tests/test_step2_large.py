@@ -100,6 +100,32 @@ def test_a_start_whose_residual_stalls_stops_early(monkeypatch):
     assert r["iterations"] == (halvings + 1) * step2_large.STALL + 1 < step2_large.MAX_ITER
 
 
+def test_a_residual_that_stops_falling_is_snapped_from_its_best_iterate(monkeypatch):
+    """Forced residuals 0.5, 5e-3, then 6e-3, 7e-3, ... (rising): never below SNAP_COMP, so
+    only the plateau rule snaps, once (each snap backend asked in turn), PLATEAU LPs after
+    the low and from the iterate of the low (the second LP); a later plateau at the same low
+    is not snapped again."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    seen, snapped = [], []
+
+    def check(N, z, a):
+        seen.append(z)
+        k = len(seen)
+        return False, {"complementarity": 0.5 if k == 1 else 5e-3 + 1e-3 * (k - 2)}, "forced failure"
+
+    def finish(N, z, a, backend, **kw):
+        snapped.append((len(seen), z))
+        return None, False, None, None, ""
+
+    monkeypatch.setattr(nlp, "check", check)
+    monkeypatch.setattr(nlp, "finish", finish)
+    (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
+    r = step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
+    assert not r["verified"] and r["reason"].startswith("stalled")
+    assert {k for k, _ in snapped} == {2 + step2_large.PLATEAU} and r["snaps"] == 1
+    assert all(z is seen[1] for _, z in snapped)
+
+
 def test_large_scenes_take_the_large_route(monkeypatch):
     """solver='auto' picks the route by size (LARGE_MIN_FREE free blocks)."""
     monkeypatch.setattr(step2, "LARGE_MIN_FREE", 5)

@@ -17,7 +17,9 @@ scenes whose associative LP has no mechanism):
    complementarity residual is below ``SNAP_COMP`` the piece LP
    (:func:`limit.solve.nlp.polish`: faces that flow keep s = 0, the others lam = 0)
    snaps it to an exactly complementary point, which is checked in turn. A
-   failed snap is retried only when the residual has fallen tenfold.
+   failed snap is retried only when the residual has fallen tenfold. A residual
+   that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
+   its best iterate snapped too.
 3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
    0.25 mu); the lowest verified alpha is kept. Each verified alpha is a
    non-associative collapse state: an upper bound of the global frictional
@@ -55,6 +57,11 @@ OMEGA_MIN = 0.125
 STALL = 8
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
+#: ... and, from the best iterate so far, when the residual has had no new low for PLATEAU LPs
+#: while that low is below SNAP_PLATEAU (and below every earlier snap's): at 10,050 2D blocks the
+#: residual sat at 1.6e-3 to 2.4e-3 for 10 LPs and no snap was ever tried; at 3,052 it settled at 2e-3
+SNAP_PLATEAU = 1e-2
+PLATEAU = 4
 #: the interior point method's tolerance while the complementarity residual is above FAR_COMP
 #: (the iterate is far from a collapse state, so an exact LP is wasted; None: ipm's default 1e-9).
 #: Measured per start, 2D wall of 1,008 blocks: 20.2 / 18.3 / 20.3 s at 1e-9 throughout, 9.0 / 9.2 /
@@ -158,7 +165,29 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     snaps = [0]
     stalled: list = []
     retry_below = [SNAP_COMP]
-    relax = {"omega": OMEGA[P.scene.dim], "best": np.inf, "best_it": 0}
+    snapped_at = [np.inf]  # the lowest residual a snap was tried at
+    relax = {"omega": OMEGA[P.scene.dim], "best": np.inf, "best_it": 0, "z": None}
+
+    def try_snap(z, comp, it) -> bool:
+        snaps[0] += 1
+        snapped_at[0] = min(snapped_at[0], comp)
+        for bk in backends:
+            proven = []  # piece LPs this backend proved infeasible (no other backend can do better)
+
+            def polisher(N_, z_, rule="ratio", backend="highs"):
+                zp, why = snap(N_, z_, rule, backend)
+                if zp is None and "infeasible" in why.lower():
+                    proven.append(rule)
+                return zp, why
+
+            zf, ok, _, _, note = nlp.finish(N, z, alpha_ref, bk, polisher=polisher, unpolished=False,
+                                            rules=SNAP_RULES, first=SNAP_FIRST)
+            if ok:
+                found.update(z=zf, how=f"{note}, {bk}", it=it)
+                return True
+            if len(set(proven)) == len(SNAP_RULES):  # 3,052 blocks: HiGHS took 43 s to agree
+                break
+        return False
 
     def on_iterate(it, r, nstar):
         z = N.join(r["alpha"], r["xh"], r["vh"], r["lamh"])
@@ -168,30 +197,18 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             return True
         comp = res["complementarity"]
         if comp < relax["best"]:
-            relax.update(best=comp, best_it=it)
-        elif it - relax["best_it"] >= STALL and relax["omega"] > OMEGA_MIN:
+            relax.update(best=comp, best_it=it, z=z)
+        elif (it - relax["best_it"] == PLATEAU and relax["best"] < min(SNAP_PLATEAU, snapped_at[0])
+              and try_snap(relax["z"], relax["best"], relax["best_it"])):
+            return True
+        if it - relax["best_it"] >= STALL and relax["omega"] > OMEGA_MIN:
             relax.update(omega=relax["omega"] / 2.0, best_it=it)
         elif it - relax["best_it"] >= STALL:  # no new low for STALL LPs at the smallest relaxation
             stalled.append(it)
             return True
         if comp < retry_below[0]:
-            snaps[0] += 1
-            for bk in backends:
-                proven = []  # piece LPs this backend proved infeasible (no other backend can do better)
-
-                def polisher(N_, z_, rule="ratio", backend="highs"):
-                    zp, why = snap(N_, z_, rule, backend)
-                    if zp is None and "infeasible" in why.lower():
-                        proven.append(rule)
-                    return zp, why
-
-                zf, ok, _, _, note = nlp.finish(N, z, alpha_ref, bk, polisher=polisher, unpolished=False,
-                                                rules=SNAP_RULES, first=SNAP_FIRST)
-                if ok:
-                    found.update(z=zf, how=f"{note}, {bk}", it=it)
-                    return True
-                if len(set(proven)) == len(SNAP_RULES):  # 3,052 blocks: HiGHS took 43 s to agree
-                    break
+            if try_snap(z, comp, it):
+                return True
             retry_below[0] = comp / 10.0
         return deadline is not None and time.perf_counter() > deadline
 
