@@ -126,6 +126,22 @@ def test_a_residual_that_stops_falling_is_snapped_from_its_best_iterate(monkeypa
     assert all(z is seen[1] for _, z in snapped)
 
 
+@pytest.mark.parametrize("backend", ["highs", "clarabel"])
+def test_a_snap_past_its_deadline_fails_and_gives_no_point(backend):
+    """The start's deadline reaches into the snap's LPs: past it, each backend is stopped
+    (told a time limit of zero or less) and the snap is a failure, never a point."""
+    import time
+
+    from limit.solve import lpsub, nlp_starts
+
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    N = step2_large.build(P)
+    z, why = step2_large.snap(N, nlp_starts.lp_start(N, sol), "support", backend, deadline=time.perf_counter() - 1.0)
+    assert z is None and "time limit" in why
+    res = lpsub.solve([1.0], None, None, None, None, [0.0], [1.0], backend, time_limit=0.0)
+    assert not res.ok and res.z is None
+
+
 def test_large_scenes_take_the_large_route(monkeypatch):
     """solver='auto' picks the route by size (LARGE_MIN_FREE free blocks)."""
     monkeypatch.setattr(step2, "LARGE_MIN_FREE", 5)

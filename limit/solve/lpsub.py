@@ -21,18 +21,24 @@ class LPResult:
         self.ok, self.z, self.status, self.fun = ok, z, status, fun
 
 
-def solve(c, Aeq, beq, Aub, bub, lo, hi, backend: str = "highs", tol: float = 1e-9) -> LPResult:
+def solve(c, Aeq, beq, Aub, bub, lo, hi, backend: str = "highs", tol: float = 1e-9,
+          time_limit: float | None = None) -> LPResult:
+    """``time_limit`` (s, None: none): the backend stops there and the answer is not ok."""
+    if time_limit is not None and time_limit <= 0:
+        return LPResult(False, None, "time limit reached before the LP")
     if backend == "highs":
         bounds = np.column_stack([np.where(np.isfinite(lo), lo, -np.inf), np.where(np.isfinite(hi), hi, np.inf)])
-        res = linprog(c, A_ub=Aub, b_ub=bub, A_eq=Aeq, b_eq=beq, bounds=bounds, method="highs",
-                      options={"primal_feasibility_tolerance": tol, "dual_feasibility_tolerance": tol})
+        opts = {"primal_feasibility_tolerance": tol, "dual_feasibility_tolerance": tol}
+        if time_limit is not None:
+            opts["time_limit"] = float(time_limit)
+        res = linprog(c, A_ub=Aub, b_ub=bub, A_eq=Aeq, b_eq=beq, bounds=bounds, method="highs", options=opts)
         return LPResult(res.status == 0, res.x if res.status == 0 else None, res.message, res.fun)
     if backend == "clarabel":
-        return _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol)
+        return _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit)
     raise ValueError(f"unknown LP backend {backend!r} (one of {', '.join(SUBPROBLEM_BACKENDS)})")
 
 
-def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol):
+def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit=None):
     import clarabel
 
     n = len(c)
@@ -54,6 +60,8 @@ def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol):
     settings.verbose = False
     settings.direct_solve_method = "qdldl"
     settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = max(tol, 1e-10)
+    if time_limit is not None:
+        settings.time_limit = float(time_limit)
     cones = ([clarabel.ZeroConeT(neq)] if neq else []) + ([clarabel.NonnegativeConeT(nub)] if nub else [])
     solver = clarabel.DefaultSolver(sp.csc_matrix((n, n)), np.asarray(c, float), A, b, cones, settings)
     sol = solver.solve()

@@ -44,7 +44,7 @@ import time
 
 import numpy as np
 
-from limit.solve import iterative_lp, lpsub, nlp
+from limit.solve import iterative_lp, lpsub, nlp, nlp_starts
 from limit.solve.nlp_problem import build
 
 #: relaxation of N* per dimension (see the module docstring), halved (down to OMEGA_MIN) each time
@@ -109,19 +109,23 @@ def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
         if f == 1.0:
             out.append(("lp", (lp_sol.x / P.Dx)[ncol]))
             continue
-        sol2 = nlp.reduced_friction_lp(P, f)
+        sol2 = nlp_starts.reduced_friction_lp(P, f)
         if sol2 is not None:
             out.append((f"lp-mu*{f:g}", (sol2.x / P.Dx)[ncol]))
     return out
 
 
-def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray | None, str]:
+def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | None = None) -> tuple[np.ndarray | None, str]:
     """The piece LP of :func:`limit.solve.nlp.polish`, solved as its two independent parts: with the
     flowing faces fixed, ``min alpha`` involves only the statics (alpha, xh: equilibrium,
     s = 0 on the flowing faces, s >= 0 elsewhere) and the kinematics (vh, lamh >= 0 on the
     flowing faces, 0 elsewhere: flow and normalisation) is a feasibility problem. Two LPs of
-    about half the size each, instead of one (1,008-block wall: 21 s as one LP)."""
+    about half the size each, instead of one (1,008-block wall: 21 s as one LP). ``deadline``
+    (time.perf_counter(), None: none): each LP stops there (a failed snap)."""
     import scipy.sparse as sp
+
+    def left():
+        return None if deadline is None else deadline - time.perf_counter()
 
     P = N.P
     flows = nlp.flowing_faces(N, z, rule)
@@ -137,7 +141,7 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray 
     c[0] = 1.0
     lo = np.full(1 + nx, -np.inf)
     lo[0] = 0.0
-    st = lpsub.solve(c, Aeq, beq, Aub, np.zeros(hold.size), lo, np.full(1 + nx, np.inf), backend)
+    st = lpsub.solve(c, Aeq, beq, Aub, np.zeros(hold.size), lo, np.full(1 + nx, np.inf), backend, time_limit=left())
     if not st.ok:
         return None, f"piece LP statics ({rule}): {st.status}"
     # kinematics: [vh, lamh on the flowing faces]
@@ -147,7 +151,7 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs") -> tuple[np.ndarray 
     keq = np.concatenate([np.zeros(nx), [1.0]])
     lo = np.concatenate([np.full(nv, -np.inf), np.zeros(act.size)])
     kin = lpsub.solve(np.zeros(nv + act.size), Keq, keq, sp.csr_matrix((0, nv + act.size)), np.zeros(0), lo,
-                      np.full(nv + act.size, np.inf), backend)
+                      np.full(nv + act.size, np.inf), backend, time_limit=left())
     if not kin.ok:
         return None, f"piece LP kinematics ({rule}): {kin.status}"
     lamh = np.zeros(P.model.n_faces)
@@ -175,7 +179,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             proven = []  # piece LPs this backend proved infeasible (no other backend can do better)
 
             def polisher(N_, z_, rule="ratio", backend="highs"):
-                zp, why = snap(N_, z_, rule, backend)
+                zp, why = snap(N_, z_, rule, backend, deadline)
                 if zp is None and "infeasible" in why.lower():
                     proven.append(rule)
                 return zp, why
