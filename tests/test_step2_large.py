@@ -142,6 +142,18 @@ def test_a_snap_past_its_deadline_fails_and_gives_no_point(backend):
     assert not res.ok and res.z is None
 
 
+def test_large_walls_run_one_round_of_starts(monkeypatch):
+    """From ONE_ROUND_MIN_FREE free blocks on only as many starts as workers (the first
+    friction factors); below it every factor's start, each listed with its label."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 5)
+    out = step2_large.solve(P, sol, workers=1)
+    assert [r["start"] for r in out["starts"]] == ["lp"] and out["ok"]
+    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 10 ** 6)
+    out = step2_large.solve(P, sol, workers=1)
+    assert [r["start"] for r in out["starts"]] == ["lp", "lp-mu*0.5", "lp-mu*0.25"] and out["ok"]
+
+
 def test_large_scenes_take_the_large_route(monkeypatch):
     """solver='auto' picks the route by size (LARGE_MIN_FREE free blocks)."""
     monkeypatch.setattr(step2, "LARGE_MIN_FREE", 5)

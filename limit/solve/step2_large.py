@@ -21,7 +21,9 @@ scenes whose associative LP has no mechanism):
    that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
    its best iterate snapped too.
 3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
-   0.25 mu); the lowest verified alpha is kept. Each verified alpha is a
+   0.25 mu), one per core at once, each solving its own reduced-friction LP; from
+   ``ONE_ROUND_MIN_FREE`` free blocks on, only as many as there are cores. The
+   lowest verified alpha is kept. Each verified alpha is a
    non-associative collapse state: an upper bound of the global frictional
    minimum, not the minimum itself.
 
@@ -83,6 +85,10 @@ SNAP_BACKENDS = ("clarabel", "highs")
 MAX_ITER = 100
 #: friction factors of the starts (1 = the associative LP itself)
 START_FACTORS = (1.0, 0.5, 0.25)
+#: from this many free blocks on, only as many starts as there are workers (the first factors):
+#: a start that waits for a core never gets one within the budget (10,050 blocks, 2 cores: the
+#: third start did not begin in 600 s); at 3,052 blocks all three starts verified the same alpha
+ONE_ROUND_MIN_FREE = 2000
 
 
 def dead_load_start(P) -> np.ndarray | None:
@@ -96,23 +102,29 @@ def dead_load_start(P) -> np.ndarray | None:
     return res.z if res.ok else None
 
 
-def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
-    """(label, N* per friction row) of each start: the normal forces of the associative LP at
-    mu x factor (the LP's own at factor 1), or of a dead-load equilibrium when the LP has no
-    optimum."""
+def start_label(factor: float) -> str:
+    return "lp" if factor == 1.0 else f"lp-mu*{factor:g}"
+
+
+def start_nstar(P, lp_sol, factor: float) -> np.ndarray | None:
+    """N* per friction row of the start at ``factor``: the normal forces of the associative LP at
+    mu x factor (the LP's own at factor 1); None when that LP has no optimum."""
     _, _, ncol, _ = iterative_lp.friction_rows(P)
-    out = []
+    if factor == 1.0:
+        return (lp_sol.x / P.Dx)[ncol]
+    sol2 = nlp_starts.reduced_friction_lp(P, factor)
+    return None if sol2 is None else (sol2.x / P.Dx)[ncol]
+
+
+def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
+    """(label, N* per friction row) of each start (:func:`start_nstar`), or of a dead-load
+    equilibrium when the LP has no optimum."""
     if lp_sol is None or lp_sol.status != "optimal":
+        _, _, ncol, _ = iterative_lp.friction_rows(P)
         xh = dead_load_start(P)
         return [] if xh is None else [("dead-load", xh[ncol])]
-    for f in factors:
-        if f == 1.0:
-            out.append(("lp", (lp_sol.x / P.Dx)[ncol]))
-            continue
-        sol2 = nlp_starts.reduced_friction_lp(P, f)
-        if sol2 is not None:
-            out.append((f"lp-mu*{f:g}", (sol2.x / P.Dx)[ncol]))
-    return out
+    out = [(start_label(f), start_nstar(P, lp_sol, f)) for f in factors]
+    return [(lab, n0) for lab, n0 in out if n0 is not None]
 
 
 def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | None = None) -> tuple[np.ndarray | None, str]:
@@ -231,18 +243,27 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
 
 
+def _not_run(why: str) -> dict:
+    return {"verified": False, "not_run": True, "reason": why, "z": None, "iterations": 0, "snaps": 0,
+            "time_s": 0.0}
+
+
 def _start_job(args) -> dict:
-    """One start in a worker process (top level, so that it pickles). ``deadline``: absolute
-    time.perf_counter() (CLOCK_MONOTONIC on Linux: the same clock in every process), so a start
-    that waited for a free worker gets only what is left of the run's budget."""
-    P, nstar0, alpha_ref, deadline = args
+    """One start in a worker process (top level, so that it pickles): its N* (a factor's
+    associative LP is solved here, in parallel with the other starts', or it is given) and the
+    iteration. ``deadline``: absolute time.perf_counter() (CLOCK_MONOTONIC on Linux: the same
+    clock in every process), so a start that waited for a free worker gets only what is left
+    of the run's budget."""
+    P, lp_sol, start, alpha_ref, deadline = args
     if deadline is not None and time.perf_counter() > deadline:
-        return {"verified": False, "not_run": True, "reason": "time budget spent", "z": None, "iterations": 0,
-                "snaps": 0, "time_s": 0.0}
+        return _not_run("time budget spent")
+    nstar0 = start_nstar(P, lp_sol, start) if isinstance(start, float) else start
+    if nstar0 is None:
+        return _not_run(f"the associative LP at mu x {start:g} has no optimum")
     return run_start(P, build(P), nstar0, alpha_ref, deadline=deadline)
 
 
-def _run_parallel(P, plan, alpha_ref, deadline, workers) -> list | None:
+def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers) -> list | None:
     """Every start at once in ``workers`` processes; None when processes cannot be started
     here (e.g. inside a daemonic worker): the caller then runs them one after another."""
     import multiprocessing as mp
@@ -250,7 +271,7 @@ def _run_parallel(P, plan, alpha_ref, deadline, workers) -> list | None:
 
     try:
         with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork")) as ex:
-            return list(ex.map(_start_job, [(P, n0, alpha_ref, deadline) for _, n0 in plan]))
+            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline) for _, s in plan]))
     except (OSError, AssertionError, RuntimeError):
         return None
 
@@ -265,22 +286,29 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS, wo
     t0 = time.perf_counter()
     deadline = None if time_budget is None else t0 + time_budget
     N = build(P)
-    alpha_ref = lp_sol.alpha if lp_sol is not None and lp_sol.status == "optimal" else np.inf
-    plan = starts(P, lp_sol, factors)
+    optimal = lp_sol is not None and lp_sol.status == "optimal"
+    alpha_ref = lp_sol.alpha if optimal else np.inf
+    cores = workers or os.cpu_count() or 1
+    if optimal:  # (label, friction factor): each start's LP is solved by the start itself
+        if P.n_dof // P.scene.ndof >= ONE_ROUND_MIN_FREE:
+            factors = tuple(factors)[:max(1, cores)]
+        plan = [(start_label(float(f)), float(f)) for f in factors]
+    else:
+        plan = starts(P, lp_sol, factors)
     if not plan:
         return {"ok": False, "reason": "no start: the dead load alone has no equilibrium", "starts": [],
                 "time_s": time.perf_counter() - t0, "N": N, "workers": 0}
-    workers = min(len(plan), workers or os.cpu_count() or 1)
+    workers = min(len(plan), cores)
     results = None
     if workers > 1:
-        results = _run_parallel(P, plan, alpha_ref, deadline, workers)
+        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers)
     if results is None:
         workers, results = 1, []
-        for label, nstar0 in plan:
+        for label, start in plan:
             if deadline is not None and any(r["verified"] for r in results) and time.perf_counter() > deadline:
-                results.append({"verified": False, "not_run": True, "reason": "time budget spent", "z": None})
+                results.append(_not_run("time budget spent"))
                 continue
-            results.append(run_start(P, N, nstar0, alpha_ref, deadline=deadline))
+            results.append(_start_job((P, lp_sol, start, alpha_ref, deadline)))
     runs, best = [], None
     for (label, _), r in zip(plan, results):
         runs.append({"start": label, **{k: v for k, v in r.items() if k != "z"}})
