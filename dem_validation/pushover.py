@@ -295,6 +295,33 @@ def pushover(model, eps_list, p, emit=None, hint=None, narrow=None):
     return out
 
 
+def apart(soft, stiff, p):
+    """True when two runs disagree: of different kinds (one collapsed under the dead load,
+    or stood, where the other collapsed under load), or collapsed at alphas more than
+    refine_rtol apart (relative)."""
+    kind = lambda r: "dead" if r.get("dead_load_collapse") else r["status"]  # noqa: E731
+    if kind(soft) != kind(stiff):
+        return True
+    if kind(stiff) != "collapsed" or soft.get("alpha") is None or not stiff.get("alpha"):
+        return False
+    return abs(stiff["alpha"] - soft["alpha"]) > float(p["refine_rtol"]) * abs(stiff["alpha"])
+
+
+def surely_apart(soft, stiff, p):
+    """:func:`apart`, for a ``stiff`` run bracketed only to the soft tolerance: true only when
+    every alpha of its bracket [alpha_lo, alpha_hi] is more than refine_rtol from the softer
+    run's (|a - c| <= r a holds on [c / (1 + r), c / (1 - r)]), so that narrowing the bracket
+    could not change the decision. (Its midpoint alone sent the 70-stone Fig. 3 wall, whose
+    runs differ by 4.3 %, to a third, costly stiffness.)"""
+    if not apart(soft, stiff, p):
+        return False
+    if stiff["status"] != "collapsed" or soft["status"] != "collapsed" or soft.get("dead_load_collapse") \
+            or stiff.get("dead_load_collapse") or soft.get("alpha") is None:
+        return True  # of different kinds
+    c, r = soft["alpha"], float(p["refine_rtol"])
+    return stiff["alpha_hi"] < c / (1.0 + r) or stiff["alpha_lo"] > c / (1.0 - r)
+
+
 def _result(eps, model, search, status, lo, hi, dead, collapse):
     alpha = 0.5 * (lo + hi) if (status == "collapsed" and lo is not None and hi is not None) else None
     return {"eps": eps, "status": status, "alpha": alpha, "alpha_lo": lo, "alpha_hi": hi,

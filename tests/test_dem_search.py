@@ -443,3 +443,28 @@ def test_a_run_away_growing_from_the_load_step_is_caught_before_the_collapse_dis
     out = pushover.trial(ScriptedMotion(lambda t: 0.02 * t * t), 0.0, 0.1, p)
     assert out["outcome"] == pushover.COLLAPSE and out["why"] == "motion still growing since the load step"
     assert out["steps"] <= 525 and out["motion"] < 0.0108
+
+
+def _bracket(lo, hi, status="collapsed", dead=False):
+    return {"status": status, "alpha_lo": lo, "alpha_hi": hi, "alpha": None if lo is None or hi is None else 0.5 * (lo + hi),
+            "dead_load_collapse": dead}
+
+
+def test_runs_apart_and_surely_apart():
+    """apart: midpoints more than refine_rtol (5 %) apart relative to the stiffer, or of
+    different kinds. surely_apart, for a bracket found only to the soft tolerance: every
+    alpha of it is more than 5 % from the softer run's c, i.e. the bracket misses
+    [c / 1.05, c / 0.95]. The 70-stone Fig. 3 wall's numbers: softer run c = 0.487353,
+    the stiffer run's soft bracket [0.4611, 0.4672] (its midpoint 0.46415 is at the 5 % edge)
+    is not surely apart: c / 1.05 = 0.46415 lies inside it."""
+    p = P.check({})
+    soft = _bracket(0.4853516, 0.4893066)
+    wide = _bracket(0.4611, 0.4672)
+    assert not pushover.surely_apart(soft, wide, p)
+    assert not pushover.apart(soft, _bracket(0.4656, 0.4672), p)        # the narrowed bracket: 4.3 % apart
+    far = _bracket(0.40, 0.41)                                           # below c / 1.05 = 0.4642 entirely
+    assert pushover.apart(soft, far, p) and pushover.surely_apart(soft, far, p)
+    assert pushover.surely_apart(soft, _bracket(0.52, 0.53), p)          # above c / 0.95 = 0.5130 entirely
+    assert not pushover.surely_apart(soft, _bracket(0.50, 0.53), p)      # straddles c / 0.95
+    dead = _bracket(None, 0.0, dead=True)
+    assert pushover.apart(dead, wide, p) and pushover.surely_apart(dead, wide, p)  # different kinds
