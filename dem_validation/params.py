@@ -30,9 +30,8 @@ KNOBS = {
                          "alpha) is ramped over this x T"),
     "alpha_max": (10.0, "give up (status stable) when alpha reaches this without collapse"),
     "alpha_rtol": (0.005, "bisection stops when (hi - lo) <= alpha_rtol x hi"),
-    "alpha_rtol_soft": (0.015, "vertex model: the same for every run but the stiffest (its alpha enters the "
-                               "extrapolation with 1/3 of the weight); the stiffest planned run is bracketed "
-                               "to this first and narrowed to alpha_rtol unless a stiffer run will follow"),
+    "alpha_rtol_soft": (0.015, "vertex model: the same for every run but the stiffest planned one (its alpha "
+                               "enters the extrapolation with 1/3 of the weight)"),
     "eq_tol": (1e-3, "equilibrium: out-of-balance force and moment / (the block's load + its contact forces)"),
     "motion_tol": (0.02, "equilibrium: block motion per check window / (eps L)"),
     "creep_disp": (0.05, "run-away needs a motion over creep_disp x eps^(1/3) x L"),

@@ -168,14 +168,12 @@ class Search:
         self.history.append(rec)
         return t
 
-    def bracket(self, lo, step, first=None, first_ramp_T=None, hi=None, collapse=None):
+    def bracket(self, lo, step, first=None, first_ramp_T=None):
         """Raise alpha from the equilibrium at ``lo`` (first to ``first`` when given - ramped
         over ``first_ramp_T`` x T when given -, then by ``step``, growing by ``growth`` after
         each equilibrium) until a collapse, then bisect. Returns (lo, hi, collapse
         displacements of the last collapsing trial); hi is None when alpha_max was reached
-        without collapse. Given ``hi`` (and the ``collapse`` that set it), the model at its
-        equilibrium at ``lo``: bisection only, as when a bracket found to a wider
-        tolerance is narrowed.
+        without collapse.
 
         A collapse read after a load step and never repeated by a bisection trial (every
         one held) may be the jump's dynamic overshoot, not the load: up to
@@ -184,6 +182,7 @@ class Search:
         ``restep`` x alpha. (Fig. 3-40 at eps 1e-5: a jump 0.24 -> 0.41 read as a collapse,
         every bisection held, and the run ended at 0.406 where its stiffer runs gave 0.56.)"""
         p, model = self.p, self.model
+        collapse = hi = None
         hi_by_load = False  # hi comes from a load step and no bisection trial collapsed since
         rechecks = 0
         while True:
@@ -223,7 +222,7 @@ class Search:
         return lo, hi, collapse
 
 
-def pushover(model, eps_list, p, emit=None, hint=None, narrow=None):
+def pushover(model, eps_list, p, emit=None, hint=None):
     """Bracket alpha at each settlement strain of ``eps_list`` (softest first).
 
     The first stiffness starts from the unloaded scene: settle under the dead load,
@@ -238,10 +237,7 @@ def pushover(model, eps_list, p, emit=None, hint=None, narrow=None):
     the unloaded scene. ``hint`` = (alpha_lo, alpha_hi) of a softer run made elsewhere
     (the vertex model's runs are separate models): a from-scratch start then goes
     straight to ``restart_frac`` x alpha_lo, ramped over ``jump_ramp_T`` x T (no dynamic
-    overshoot), and on by ``restep`` x alpha_lo. ``narrow``: a function of a run's result;
-    given, each stiffness is bracketed to ``alpha_rtol_soft`` first and narrowed on to
-    ``alpha_rtol`` only when ``narrow(result)`` is true (the caller's test that no stiffer
-    run will supersede this one). Returns one dict per stiffness: eps, status
+    overshoot), and on by ``restep`` x alpha_lo. Returns one dict per stiffness: eps, status
     (collapsed|stable), alpha (bracket midpoint, None unless collapsed), alpha_lo,
     alpha_hi, dead_load_collapse, history, steps, collapse (per free block
     (u, rotation) over the last collapsing trial, from the last equilibrium), dt, kn.
@@ -282,44 +278,11 @@ def pushover(model, eps_list, p, emit=None, hint=None, narrow=None):
             start = (0.0, p["step0"], None)
             if hint is not None and prev is None and hint[0] and hint[0] > 0:
                 start = (0.0, max(p["restep"] * hint[0], 1e-9), p["restart_frac"] * hint[0], p["jump_ramp_T"])
-        if narrow is not None:
-            search.p = dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
         lo, hi, collapse = search.bracket(*start)
         res = _result(eps, model, search, "stable" if hi is None else "collapsed", lo, hi, False, collapse)
-        if narrow is not None and hi is not None and hi - lo > p["alpha_rtol"] * hi and narrow(res):
-            search.p = p
-            lo, hi, collapse = search.bracket(lo, None, hi=hi, collapse=collapse)
-            res = _result(eps, model, search, "collapsed", lo, hi, False, collapse)
         out.append(res)
         prev = (res, search)
     return out
-
-
-def apart(soft, stiff, p):
-    """True when two runs disagree: of different kinds (one collapsed under the dead load,
-    or stood, where the other collapsed under load), or collapsed at alphas more than
-    refine_rtol apart (relative)."""
-    kind = lambda r: "dead" if r.get("dead_load_collapse") else r["status"]  # noqa: E731
-    if kind(soft) != kind(stiff):
-        return True
-    if kind(stiff) != "collapsed" or soft.get("alpha") is None or not stiff.get("alpha"):
-        return False
-    return abs(stiff["alpha"] - soft["alpha"]) > float(p["refine_rtol"]) * abs(stiff["alpha"])
-
-
-def surely_apart(soft, stiff, p):
-    """:func:`apart`, for a ``stiff`` run bracketed only to the soft tolerance: true only when
-    every alpha of its bracket [alpha_lo, alpha_hi] is more than refine_rtol from the softer
-    run's (|a - c| <= r a holds on [c / (1 + r), c / (1 - r)]), so that narrowing the bracket
-    could not change the decision. (Its midpoint alone sent the 70-stone Fig. 3 wall, whose
-    runs differ by 4.3 %, to a third, costly stiffness.)"""
-    if not apart(soft, stiff, p):
-        return False
-    if stiff["status"] != "collapsed" or soft["status"] != "collapsed" or soft.get("dead_load_collapse") \
-            or stiff.get("dead_load_collapse") or soft.get("alpha") is None:
-        return True  # of different kinds
-    c, r = soft["alpha"], float(p["refine_rtol"])
-    return stiff["alpha_hi"] < c / (1.0 + r) or stiff["alpha_lo"] > c / (1.0 - r)
 
 
 def _result(eps, model, search, status, lo, hi, dead, collapse):

@@ -21,13 +21,25 @@ import pushover  # noqa: E402  (a sibling module, importable without the project
 import yade_model  # noqa: E402
 
 
+def _apart(soft, stiff, p):
+    """True when two runs disagree: of different kinds (one collapsed under the dead load,
+    or stood, where the other collapsed under load), or collapsed at alphas more than
+    refine_rtol apart (relative)."""
+    kind = lambda r: "dead" if r.get("dead_load_collapse") else r["status"]  # noqa: E731
+    if kind(soft) != kind(stiff):
+        return True
+    if kind(stiff) != "collapsed" or soft.get("alpha") is None or not stiff.get("alpha"):
+        return False
+    return abs(stiff["alpha"] - soft["alpha"]) > float(p["refine_rtol"]) * abs(stiff["alpha"])
+
+
 def run_pushovers(job, eps_list, p):
     """(model, runs): the pushover at every stiffness. Polyhedra (``contact: polyhedra``):
     one model, a stiffer run restarts from a softer run's equilibrium. Vertex model (the
     default): each stiffness has its own sphere radius, so each is a new model loaded from
     scratch (also one loading path for every stiffness, where friction makes the path matter)
     whose first load step goes near the softer run's collapse;
-    while the two stiffest runs disagree (:func:`pushover.apart`), one more run at a quarter of the
+    while the two stiffest runs disagree (:func:`_apart`), one more run at a quarter of the
     stiffest eps (at most refine_max more)."""
     contact = job.get("contact", "vertex")
     if contact == "polyhedra":
@@ -52,18 +64,14 @@ def run_pushovers(job, eps_list, p):
         emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
         prev = runs[-1] if runs and runs[-1]["status"] == "collapsed" and runs[-1].get("alpha_lo") else None
         hint = (prev["alpha_lo"], prev["alpha_hi"]) if prev else None
-        # a softer run only sets the extrapolation's slope (weight 1/3): a wider bracket will do;
-        # the stiffest planned run too when it differs from the one before by more than
-        # refine_rtol, so that a stiffer one follows (Fig. 2b's 6.25e-7 run: two trials of 160k steps)
-        last = k == len(eps_list) - 1
-        pk = p if last else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
-        final = (lambda r: not (runs and extra < int(p["refine_max"]) and pushover.surely_apart(runs[-1], r, p))) if last else None
-        run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint, narrow=final)[0]
+        # a softer run only sets the extrapolation's slope (weight 1/3): a wider bracket will do
+        pk = p if k == len(eps_list) - 1 else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
+        run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint)[0]
         run["sphere_radius"] = model.r
         run["mass_factor"] = model.mass_factor
         runs.append(run)
         k += 1
-        if k == len(eps_list) and len(runs) >= 2 and extra < int(p["refine_max"]) and pushover.apart(runs[-2], runs[-1], p):
+        if k == len(eps_list) and len(runs) >= 2 and extra < int(p["refine_max"]) and _apart(runs[-2], runs[-1], p):
             eps_list.append(eps / 4.0)  # the two stiffest runs are not yet close: one stiffer run
             extra += 1
     return model, runs

@@ -34,9 +34,8 @@ LMGC_TIMEOUT = 900.0
 #: (``meta.lmgc.cost_s``, CPU s on this project's 2-core machine, written by scenes/catalog.py)
 #: is at most this. Since its search starts from the frictional alpha, stops at 0.5 % and ends a
 #: trial whose blocks rattle in place, the nine scenes left out before cost 499 s instead of 882 s.
-#: At 250 s every catalog scene runs it (the costliest, the 70-stone Fig. 3 wall, 190 s), once the
-#: YADE side's stiffest planned run stopped being narrowed when a stiffer one follows (Fig. 2b: 545 s
-#: instead of 668 s); the limit stays for a user's larger scenes. ``validate --lmgc-all`` (and
+#: At 250 s every catalog scene runs it (the costliest, the 70-stone Fig. 3 wall, 190 s); the limit
+#: stays for a user's larger scenes. ``validate --lmgc-all`` (and
 #: ``make bench``) runs it on every scene, and a default run shows such a cached result.
 LMGC_BUDGET_S = 250.0
 #: sliding faces of the near-circular friction model of the ``cone`` stage (inscribed)

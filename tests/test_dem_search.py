@@ -236,26 +236,6 @@ def test_a_hinted_run_goes_straight_near_the_softer_collapse(monkeypatch):
     assert len(seen) < 12  # fewer trials than from 0.05 upwards
 
 
-def test_a_run_is_narrowed_only_when_told(fake):
-    """With ``narrow``, a run is bracketed to alpha_rtol_soft (1.5 %) first and narrowed on
-    to alpha_rtol (0.5 %) only when narrow(result) is true; the narrowed run makes the
-    same trials as a run bracketed to alpha_rtol at once (bisection midpoints do not
-    depend on where it paused). alpha_c = 0.3 - 1.2 (1e-5)^(1/3) = 0.2742."""
-    p = P.check({"eps": [1e-5]})
-    crit = 0.3 - 1.2 * 1e-5 ** (1 / 3)
-    strict = pushover.pushover(fake(), p["eps"], p)[0]
-    asked = []
-    wide = pushover.pushover(fake(), p["eps"], p, narrow=lambda r: asked.append(r["alpha_hi"]) and False)[0]
-    narrowed = pushover.pushover(fake(), p["eps"], p, narrow=lambda r: True)[0]
-    width = lambda r: r["alpha_hi"] - r["alpha_lo"]  # noqa: E731
-    assert len(asked) == 1
-    assert wide["alpha_lo"] <= crit < wide["alpha_hi"]
-    assert p["alpha_rtol"] * wide["alpha_hi"] < width(wide) <= p["alpha_rtol_soft"] * wide["alpha_hi"]
-    assert narrowed["alpha_lo"] <= crit < narrowed["alpha_hi"] and width(narrowed) <= p["alpha_rtol"] * narrowed["alpha_hi"]
-    assert [h["alpha"] for h in narrowed["history"]] == [h["alpha"] for h in strict["history"]]
-    assert len(wide["history"]) < len(strict["history"])
-
-
 def test_a_failed_restiffening_tries_the_next_lower_equilibrium(monkeypatch):
     _flaky_restiffen(monkeypatch, 1, False)
     p = P.check({"eps": [1e-4, 1e-5]})
@@ -443,28 +423,3 @@ def test_a_run_away_growing_from_the_load_step_is_caught_before_the_collapse_dis
     out = pushover.trial(ScriptedMotion(lambda t: 0.02 * t * t), 0.0, 0.1, p)
     assert out["outcome"] == pushover.COLLAPSE and out["why"] == "motion still growing since the load step"
     assert out["steps"] <= 525 and out["motion"] < 0.0108
-
-
-def _bracket(lo, hi, status="collapsed", dead=False):
-    return {"status": status, "alpha_lo": lo, "alpha_hi": hi, "alpha": None if lo is None or hi is None else 0.5 * (lo + hi),
-            "dead_load_collapse": dead}
-
-
-def test_runs_apart_and_surely_apart():
-    """apart: midpoints more than refine_rtol (5 %) apart relative to the stiffer, or of
-    different kinds. surely_apart, for a bracket found only to the soft tolerance: every
-    alpha of it is more than 5 % from the softer run's c, i.e. the bracket misses
-    [c / 1.05, c / 0.95]. The 70-stone Fig. 3 wall's numbers: softer run c = 0.487353,
-    the stiffer run's soft bracket [0.4611, 0.4672] (its midpoint 0.46415 is at the 5 % edge)
-    is not surely apart: c / 1.05 = 0.46415 lies inside it."""
-    p = P.check({})
-    soft = _bracket(0.4853516, 0.4893066)
-    wide = _bracket(0.4611, 0.4672)
-    assert not pushover.surely_apart(soft, wide, p)
-    assert not pushover.apart(soft, _bracket(0.4656, 0.4672), p)        # the narrowed bracket: 4.3 % apart
-    far = _bracket(0.40, 0.41)                                           # below c / 1.05 = 0.4642 entirely
-    assert pushover.apart(soft, far, p) and pushover.surely_apart(soft, far, p)
-    assert pushover.surely_apart(soft, _bracket(0.52, 0.53), p)          # above c / 0.95 = 0.5130 entirely
-    assert not pushover.surely_apart(soft, _bracket(0.50, 0.53), p)      # straddles c / 0.95
-    dead = _bracket(None, 0.0, dead=True)
-    assert pushover.apart(dead, wide, p) and pushover.surely_apart(dead, wide, p)  # different kinds
