@@ -34,9 +34,9 @@ KNOBS = {
                              "held moved 1e-6 to 1e-5 m)"),
     "step0": (0.05, "first trial alpha; the trials double until one collapses"),
     "alpha_max": (10.0, "no collapse up to this alpha: status stable"),
-    "alpha_rtol": (5e-3, "bisection stops when (hi - lo) <= alpha_rtol x hi (half width 0.25 %, as the YADE "
-                         "side's; against 1 % checks, two trials fewer than 2e-3 from a good guess)"),
-    "hint_margin": (0.02, "with a guessed alpha (job 'hint'), the first trials are this far (relative) "
+    "alpha_rtol": (1e-2, "bisection stops when (hi - lo) <= alpha_rtol x hi (half width 0.5 %, within the "
+                         "1 % of the closed-form checks; one trial fewer than 5e-3)"),
+    "hint_margin": (0.01, "with a guessed alpha (job 'hint'), the first trials are this far (relative) "
                           "below and above it"),
 }
 
@@ -51,9 +51,9 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
     Without a guess: alpha = 0 first (a collapse there is a dead-load collapse), then
     step0, 2 step0, ... until a collapse (or alpha_max). With a guess ``hint`` (> 0, the
     limit analysis's alpha), the trials go out from it in steps that double,
-    hint x (1 +/- m (2^(k+1) - 1)) with m = hint_margin (0.98, 0.94, 0.86, ... and 1.02,
-    1.06, 1.14, ...): a good guess is bracketed in two trials, a guess off by 50 % in
-    five. A stable loaded trial has carried the dead load too (its first t_load s are the
+    hint x (1 +/- m (2^(k+1) - 1)) with m = hint_margin (0.99, 0.97, 0.93, ... and 1.01,
+    1.03, 1.07, ...): a guess within 1 % is bracketed in two trials (and done in three), a
+    guess off by 50 % in six. A stable loaded trial has carried the dead load too (its first t_load s are the
     dead load alone), so the alpha = 0 trial is run only when every trial down from the
     guess collapsed.
     A guess only saves trials: the bracket is the trials' own."""

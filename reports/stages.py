@@ -68,8 +68,11 @@ def lmgc_options(scene_data: dict, budget_s: float | None = LMGC_BUDGET_S) -> di
 
 
 def cone_options(scene_data: dict) -> dict:
+    """The ``la`` stage's options with the near-circular friction model; step 2 without the
+    independent MILP and iterative-LP checks (the ``la`` stage runs them; here only the
+    friction model's effect on alpha is wanted)."""
     return {**la_options(scene_data), "n_slide": CONE_FACES, "slide_fit": "inscribed",
-            "run": scene_data.get("dim") == 3, "global_max_free": 0}
+            "run": scene_data.get("dim") == 3, "global_max_free": 0, "iterative_max_free": 0}
 
 
 def run_cone(path: str, options: dict) -> dict:
