@@ -20,7 +20,7 @@ import scipy.sparse as sp
 from scipy.optimize import LinearConstraint, NonlinearConstraint, minimize
 
 from limit import step2
-from limit.solve import milp, nlp
+from limit.solve import milp, nlp, nlp_starts
 from limit.analysis import solve_lp
 from limit.model.assemble import assemble
 from limit.solve.nlp_problem import build
@@ -121,7 +121,7 @@ def trust_constr_part():
         P = assemble(load_scene(wall(n)))
         sol, _, _ = solve_lp(P)
         N = build(P)
-        z0, _ = nlp.phase1(N, nlp.lp_start(N, sol), "highs")
+        z0, _ = nlp.phase1(N, nlp_starts.lp_start(N, sol), "highs")
         for label, fn in (("trust-constr", lambda: solve_trust_constr(N, z0)),
                           ("slsqp", lambda: nlp.solve_slsqp(N, z0)),
                           ("sla", lambda: nlp.solve_sla(N, z0, "highs"))):

@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 
-from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, step2_large
+from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
 from limit.results.result_parts import interfaces_part
 
@@ -31,8 +31,8 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     runs first. With ``restarts`` the SLA also runs from the same start with
     initial penalties 1, 0.1 and 0.01 (a low penalty lets it wander further before
     complementarity is enforced), a few times with random positive costs on the
-    multipliers (nlp.RANDOM_RESTARTS; seeded, reproducible), and from the associative
-    LPs at reduced friction (:func:`reduced_friction_starts`). The problem is
+    multipliers (nlp_starts.RANDOM_RESTARTS; seeded, reproducible), and from the associative
+    LPs at reduced friction (:func:`limit.solve.nlp_starts.reduced_friction_starts`). The problem is
     non-convex: each run ends at a local solution; the lowest alpha that passes
     the independent check is kept and every run is listed. ``time_budget`` (s, None:
     none): once it is spent and a verified point is in hand, the run in progress
@@ -49,26 +49,26 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
         solver = "slsqp" if N.n <= nlp.SLSQP_MAX_VARS else "sla"
     rng = np.random.default_rng(seed)
     if start == "lp":
-        z0, why = nlp.phase1(N, nlp.lp_start(N, lp_sol), backend)
+        z0, why = nlp.phase1(N, nlp_starts.lp_start(N, lp_sol), backend)
         if z0 is None:
             return {"ok": False, "reason": f"no non-associative mechanism from the LP start ({why})",
                     "solver": solver, "time_s": time.perf_counter() - t0, "runs": []}
         label = "lp"
     else:
-        z0, label = nlp.arbitrary_start(N, seed), "arbitrary"
+        z0, label = nlp_starts.arbitrary_start(N, seed), "arbitrary"
     plan = [(label, z0, solver, 1.0, None)]
     strategies = set(strategies) if restarts else set()
     if "penalty" in strategies:
         plan += [(label, z0, "sla", r, None) for r in (1.0, 0.1, 0.01) if (solver, 1.0) != ("sla", r)]
     if "random" in strategies:
-        n_random = nlp.RANDOM_RESTARTS[0] if N.n <= 5000 else nlp.RANDOM_RESTARTS[1]
+        n_random = nlp_starts.RANDOM_RESTARTS[0] if N.n <= 5000 else nlp_starts.RANDOM_RESTARTS[1]
         s0 = np.maximum(N.slack(z0), 0.0)
         scale = float(s0.mean()) if s0.size and s0.mean() > 0 else 1.0
         for _ in range(n_random):
             plan.append((label, z0, "sla", float(rng.choice([1.0, 0.1, 0.01])),
                          0.2 * scale * rng.uniform(0, 1, P.model.n_faces)))
     if "friction" in strategies:
-        for lab, zs in nlp.reduced_friction_starts(P, N, backend):
+        for lab, zs in nlp_starts.reduced_friction_starts(P, N, backend):
             plan += [(lab, zs, "sla", r, None) for r in (1.0, 0.1, 0.01)]
     lp = None
     if backend == "highs" and any(p[2] == "sla" for p in plan):

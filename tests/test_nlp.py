@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from limit import step2
-from limit.solve import iterative_lp, milp, nlp
+from limit.solve import iterative_lp, milp, nlp, nlp_starts
 from limit.analysis import analyse, solve_lp
 from limit.model.assemble import assemble
 from limit.solve.nlp_problem import build
@@ -186,7 +186,7 @@ def test_sla_direction_cost_never_negative_on_a_multiplier():
     unbounded: seen on 300-block walls). The clipped gradient equals the exact one elsewhere."""
     P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
     N = build(P)
-    z = nlp.lp_start(N, sol)
+    z = nlp_starts.lp_start(N, sol)
     s = N.slack(z)
     j = int(np.argmin(s))
     # push face j's slack just below zero along its own row

@@ -17,8 +17,8 @@ interface actions, block velocities and plastic multipliers). Solvers:
     stationary point). It replaces trust-constr, which on these problems is
     both slower and less reliable (see bench/nlp_bench.py).
 
-Both start from the LP solution made compatible with the non-associative flow
-(phase 1: the LP stresses fixed, the mechanism re-solved to minimise the
+Both start from the LP solution (the starts: :mod:`limit.solve.nlp_starts`) made
+compatible with the non-associative flow (phase 1: the LP stresses fixed, the mechanism re-solved to minimise the
 complementarity gap). The end point is polished by the *piece LP*: with each
 yield face assigned to "flows" (lam > 0 allowed, s = 0 imposed) or "holds"
 (lam = 0) as at the end point, the problem is an LP whose optimum is exactly
@@ -42,12 +42,7 @@ TOL_COMP = 1e-7     # complementarity lam . s, in units of alpha (relative to ma
 
 
 # ---------------------------------------------------------------------------
-# Starting points
-
-
-def lp_start(N: NLPProblem, lp_sol) -> np.ndarray:
-    """The LP solution as a point of the NLP (flow generally violated)."""
-    return N.scale(lp_sol.alpha, lp_sol.x, lp_sol.u, lp_sol.lam)
+# Phase 1
 
 
 def phase1(N: NLPProblem, z0: np.ndarray, backend: str) -> tuple[np.ndarray | None, str]:
@@ -74,14 +69,6 @@ def phase1(N: NLPProblem, z0: np.ndarray, backend: str) -> tuple[np.ndarray | No
     z = z0.copy()
     z[N.sv], z[N.sl] = res.z[:nv], res.z[nv:]
     return z, ""
-
-
-def arbitrary_start(N: NLPProblem, seed: int = 0) -> np.ndarray:
-    """A start that knows nothing of the LP: small random stresses and multipliers, alpha = 0.5."""
-    rng = np.random.default_rng(seed)
-    z = rng.uniform(0.0, 1.0, N.n)
-    z[N.ia] = 0.5
-    return z
 
 
 # ---------------------------------------------------------------------------
@@ -258,44 +245,3 @@ def finish(N, z, alpha_lp, backend, polisher=None, unpolished: bool = True, rule
         if best is None:
             best = (zc, False, res, why, nt)
     return best
-
-
-#: randomised SLA restarts from the LP start (by problem size: unknowns <= 5000, above)
-RANDOM_RESTARTS = (6, 2)
-#: friction factors of the extra associative-LP starts (see :func:`reduced_friction_starts`)
-FRICTION_FACTORS = (0.5, 0.25)
-
-
-def reduced_friction_lp(P, factor: float):
-    """The associative LP of P with every friction coefficient times ``factor`` (its solution,
-    or None when it has no optimum)."""
-    import dataclasses
-
-    from limit.solve.checked_lp import solve_lp
-    from limit.model.assemble import assemble
-
-    P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor))
-    sol2, _, _ = solve_lp(P2)
-    return sol2 if sol2.status == "optimal" else None
-
-
-def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FACTORS) -> list:
-    """Starts from the associative LP solved with the friction coefficients scaled down.
-
-    Its stresses satisfy the real (higher) friction bound, and it collapses through
-    mechanisms in which joints slide more freely; made compatible with the
-    non-associative flow (phase 1) they lead the NLP to collapses in which joints
-    open and slide at zero normal force, which the dilatant mechanism of the
-    full-friction LP cannot reach. Measured on running-bond walls (bench/nlp_bench.py):
-    without these starts the NLP missed the global minimum in half of the cases.
-    """
-    out = []
-    for f in factors:
-        sol2 = reduced_friction_lp(P, f)
-        if sol2 is None:
-            continue
-        z = N.join(sol2.alpha, sol2.x / P.Dx, np.zeros(P.n_dof), np.zeros(P.model.n_faces))
-        z0, _ = phase1(N, z, backend)
-        if z0 is not None:
-            out.append((f"lp-mu*{f:g}", z0))
-    return out

@@ -1,0 +1,69 @@
+"""Step 2's starting points: the restart policy of the successive LP (:mod:`limit.solve.nlp`).
+
+A start is a point z of :class:`limit.solve.nlp_problem.NLPProblem` (alpha, scaled interface
+actions, block velocities, plastic multipliers), made compatible with the non-associative
+flow by :func:`limit.solve.nlp.phase1` before the solvers take it: the associative LP's
+answer (:func:`lp_start`), seeded random points (:func:`arbitrary_start`,
+:data:`RANDOM_RESTARTS`), and the associative LP at reduced friction
+(:func:`reduced_friction_starts`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from limit.solve.nlp import phase1
+from limit.solve.nlp_problem import NLPProblem
+
+
+def lp_start(N: NLPProblem, lp_sol) -> np.ndarray:
+    """The LP solution as a point of the NLP (flow generally violated)."""
+    return N.scale(lp_sol.alpha, lp_sol.x, lp_sol.u, lp_sol.lam)
+
+
+def arbitrary_start(N: NLPProblem, seed: int = 0) -> np.ndarray:
+    """A start that knows nothing of the LP: small random stresses and multipliers, alpha = 0.5."""
+    rng = np.random.default_rng(seed)
+    z = rng.uniform(0.0, 1.0, N.n)
+    z[N.ia] = 0.5
+    return z
+
+
+#: randomised SLA restarts from the LP start (by problem size: unknowns <= 5000, above)
+RANDOM_RESTARTS = (6, 2)
+#: friction factors of the extra associative-LP starts (see :func:`reduced_friction_starts`)
+FRICTION_FACTORS = (0.5, 0.25)
+
+
+def reduced_friction_lp(P, factor: float):
+    """The associative LP of P with every friction coefficient times ``factor`` (its solution,
+    or None when it has no optimum)."""
+    import dataclasses
+
+    from limit.solve.checked_lp import solve_lp
+    from limit.model.assemble import assemble
+
+    P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor))
+    sol2, _, _ = solve_lp(P2)
+    return sol2 if sol2.status == "optimal" else None
+
+
+def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FACTORS) -> list:
+    """Starts from the associative LP solved with the friction coefficients scaled down.
+
+    Its stresses satisfy the real (higher) friction bound, and it collapses through
+    mechanisms in which joints slide more freely; made compatible with the
+    non-associative flow (phase 1) they lead the NLP to collapses in which joints
+    open and slide at zero normal force, which the dilatant mechanism of the
+    full-friction LP cannot reach. Measured on running-bond walls (bench/nlp_bench.py):
+    without these starts the NLP missed the global minimum in half of the cases.
+    """
+    out = []
+    for f in factors:
+        sol2 = reduced_friction_lp(P, f)
+        if sol2 is None:
+            continue
+        z = N.join(sol2.alpha, sol2.x / P.Dx, np.zeros(P.n_dof), np.zeros(P.model.n_faces))
+        z0, _ = phase1(N, z, backend)
+        if z0 is not None:
+            out.append((f"lp-mu*{f:g}", z0))
+    return out
