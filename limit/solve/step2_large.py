@@ -55,6 +55,9 @@ from limit.solve.nlp_problem import build
 #: start whose residual has no new low for STALL LPs at OMEGA_MIN stops as stalled: its budget goes
 #: to the others (the 3,052-block wall's 0.5 mu start held its core for the whole 11 minutes)
 OMEGA = {2: 1.0, 3: 0.5}
+#: ... and from ONE_ROUND_MIN_FREE free blocks on: 10,050 2D blocks oscillated at omega = 1 for its
+#: first 10 LPs (residual 0.15 to 1.5, alpha 0.15 to 0.44) before the stall rule halved it
+OMEGA_LARGE = 0.5
 OMEGA_MIN = 0.125
 STALL = 8
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
@@ -182,7 +185,9 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     stalled: list = []
     retry_below = [SNAP_COMP]
     snapped_at = [np.inf]  # the lowest residual a snap was tried at
-    relax = {"omega": OMEGA[P.scene.dim], "best": np.inf, "best_it": 0, "z": None}
+    large = P.n_dof // P.scene.ndof >= ONE_ROUND_MIN_FREE
+    relax = {"omega": min(OMEGA[P.scene.dim], OMEGA_LARGE) if large else OMEGA[P.scene.dim], "best": np.inf,
+             "best_it": 0, "z": None}
 
     def try_snap(z, comp, it) -> bool:
         snaps[0] += 1
