@@ -34,10 +34,12 @@ the dead load alone (alpha = 0).
 Measured (running-bond walls, mu 0.9, bench/step2_large_bench.py, 2 cores): 2D 1,008
 blocks, three starts, 0.341463 verified by all three in 9.6 s (median of 3; 41.8 s before
 the loose early LPs :data:`LP_TOL_FAR`, the first-passing snap :data:`SNAP_FIRST` and
-Clarabel for the snap :data:`SNAP_BACKENDS`). 2D 3,052 blocks: 0.337984 verified by all
-three starts in 89 s (before HiGHS was spared the snaps Clarabel proved infeasible, the 0.5 mu
-start had not verified after 11 minutes). 2D 10,050 blocks: no start verified within a
-600 s budget (133 LPs of about 4.6 s). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
+Clarabel for the snap :data:`SNAP_BACKENDS`). 2D 3,052 blocks: 0.337984 verified by both
+starts (one per core, :data:`ONE_ROUND_MIN_FREE`) in 52 s (all three in 89 s before; before HiGHS
+was spared the snaps Clarabel proved infeasible, the 0.5 mu start had not verified after 11
+minutes). 2D 10,050 blocks: 0.335865 verified by one of two starts in 511 s (before the
+plateau snap :data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s:
+133 LPs of about 4.6 s). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s.
 """
 from __future__ import annotations
