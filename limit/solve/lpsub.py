@@ -22,8 +22,10 @@ class LPResult:
 
 
 def solve(c, Aeq, beq, Aub, bub, lo, hi, backend: str = "highs", tol: float = 1e-9,
-          time_limit: float | None = None) -> LPResult:
-    """``time_limit`` (s, None: none): the backend stops there and the answer is not ok."""
+          time_limit: float | None = None, almost: bool = False) -> LPResult:
+    """``time_limit`` (s, None: none): the backend stops there and the answer is not ok.
+    ``almost``: Clarabel's "AlmostSolved" (reduced accuracy) counts as ok, for callers whose
+    answer is checked independently anyway (the snap of :mod:`limit.solve.step2_large`)."""
     if time_limit is not None and time_limit <= 0:
         return LPResult(False, None, "time limit reached before the LP")
     if backend == "highs":
@@ -34,11 +36,11 @@ def solve(c, Aeq, beq, Aub, bub, lo, hi, backend: str = "highs", tol: float = 1e
         res = linprog(c, A_ub=Aub, b_ub=bub, A_eq=Aeq, b_eq=beq, bounds=bounds, method="highs", options=opts)
         return LPResult(res.status == 0, res.x if res.status == 0 else None, res.message, res.fun)
     if backend == "clarabel":
-        return _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit)
+        return _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit, almost)
     raise ValueError(f"unknown LP backend {backend!r} (one of {', '.join(SUBPROBLEM_BACKENDS)})")
 
 
-def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit=None):
+def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit=None, almost=False):
     import clarabel
 
     n = len(c)
@@ -65,7 +67,7 @@ def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit=None):
     cones = ([clarabel.ZeroConeT(neq)] if neq else []) + ([clarabel.NonnegativeConeT(nub)] if nub else [])
     solver = clarabel.DefaultSolver(sp.csc_matrix((n, n)), np.asarray(c, float), A, b, cones, settings)
     sol = solver.solve()
-    ok = str(sol.status) == "Solved"
+    ok = str(sol.status) == "Solved" or (almost and str(sol.status) == "AlmostSolved")
     z = np.array(sol.x) if ok else None
     return LPResult(ok, z, str(sol.status), float(np.dot(c, z)) if ok else None)
 

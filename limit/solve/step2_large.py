@@ -138,7 +138,9 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     s = 0 on the flowing faces, s >= 0 elsewhere) and the kinematics (vh, lamh >= 0 on the
     flowing faces, 0 elsewhere: flow and normalisation) is a feasibility problem. Two LPs of
     about half the size each, instead of one (1,008-block wall: 21 s as one LP). ``deadline``
-    (time.perf_counter(), None: none): each LP stops there (a failed snap)."""
+    (time.perf_counter(), None: none): each LP stops there (a failed snap). Clarabel's
+    reduced-accuracy answers are taken (the snapped point is checked independently): on a 3D
+    wall of 3,024 blocks both piece LPs ended "AlmostSolved" at a residual of 2.4e-3."""
     import scipy.sparse as sp
 
     def left():
@@ -158,7 +160,8 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     c[0] = 1.0
     lo = np.full(1 + nx, -np.inf)
     lo[0] = 0.0
-    st = lpsub.solve(c, Aeq, beq, Aub, np.zeros(hold.size), lo, np.full(1 + nx, np.inf), backend, time_limit=left())
+    st = lpsub.solve(c, Aeq, beq, Aub, np.zeros(hold.size), lo, np.full(1 + nx, np.inf), backend, time_limit=left(),
+                     almost=True)
     if not st.ok:
         return None, f"piece LP statics ({rule}): {st.status}"
     # kinematics: [vh, lamh on the flowing faces]
@@ -168,7 +171,7 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     keq = np.concatenate([np.zeros(nx), [1.0]])
     lo = np.concatenate([np.full(nv, -np.inf), np.zeros(act.size)])
     kin = lpsub.solve(np.zeros(nv + act.size), Keq, keq, sp.csr_matrix((0, nv + act.size)), np.zeros(0), lo,
-                      np.full(nv + act.size, np.inf), backend, time_limit=left())
+                      np.full(nv + act.size, np.inf), backend, time_limit=left(), almost=True)
     if not kin.ok:
         return None, f"piece LP kinematics ({rule}): {kin.status}"
     lamh = np.zeros(P.model.n_faces)
