@@ -40,7 +40,8 @@ was spared the snaps Clarabel proved infeasible, the 0.5 mu start had not verifi
 minutes). 2D 10,050 blocks: 0.335865 verified by one of two starts in 511 s (before the
 plateau snap :data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s:
 133 LPs of about 4.6 s). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
-starts of 70, 38 and 28 s.
+starts of 70, 38 and 28 s. 3D 3,024 blocks: 0.525052 verified by both starts in 204 s (none in
+600 s before the snap took Clarabel's AlmostSolved).
 """
 from __future__ import annotations
 
