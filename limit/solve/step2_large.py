@@ -97,6 +97,11 @@ START_FACTORS = (1.0, 0.5, 0.25)
 ONE_ROUND_MIN_FREE = 2000
 
 
+def _one_round(P) -> bool:
+    """At least ONE_ROUND_MIN_FREE free blocks: one round of starts, relaxation OMEGA_LARGE."""
+    return P.n_dof // P.scene.ndof >= ONE_ROUND_MIN_FREE
+
+
 def dead_load_start(P) -> np.ndarray | None:
     """Scaled interface actions in equilibrium with the dead load alone (alpha = 0) within the
     yield domain, or None when there are none (the dead load alone collapses)."""
@@ -191,8 +196,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     stalled: list = []
     retry_below = [SNAP_COMP]
     snapped_at = [np.inf]  # the lowest residual a snap was tried at
-    large = P.n_dof // P.scene.ndof >= ONE_ROUND_MIN_FREE
-    relax = {"omega": min(OMEGA[P.scene.dim], OMEGA_LARGE) if large else OMEGA[P.scene.dim], "best": np.inf,
+    relax = {"omega": min(OMEGA[P.scene.dim], OMEGA_LARGE) if _one_round(P) else OMEGA[P.scene.dim], "best": np.inf,
              "best_it": 0, "z": None}
 
     def try_snap(z, comp, it) -> bool:
@@ -264,14 +268,14 @@ def _start_job(args) -> dict:
     associative LP is solved here, in parallel with the other starts', or it is given) and the
     iteration. ``deadline``: absolute time.perf_counter() (CLOCK_MONOTONIC on Linux: the same
     clock in every process), so a start that waited for a free worker gets only what is left
-    of the run's budget."""
-    P, lp_sol, start, alpha_ref, deadline = args
+    of the run's budget. ``N``: the problem built already (None in a worker: built there)."""
+    P, lp_sol, start, alpha_ref, deadline, N = args
     if deadline is not None and time.perf_counter() > deadline:
         return _not_run("time budget spent")
     nstar0 = start_nstar(P, lp_sol, start) if isinstance(start, float) else start
     if nstar0 is None:
         return _not_run(f"the associative LP at mu x {start:g} has no optimum")
-    return run_start(P, build(P), nstar0, alpha_ref, deadline=deadline)
+    return run_start(P, build(P) if N is None else N, nstar0, alpha_ref, deadline=deadline)
 
 
 def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers) -> list | None:
@@ -282,7 +286,7 @@ def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers) -> list | None:
 
     try:
         with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork")) as ex:
-            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline) for _, s in plan]))
+            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None) for _, s in plan]))
     except (OSError, AssertionError, RuntimeError):
         return None
 
@@ -301,7 +305,7 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS, wo
     alpha_ref = lp_sol.alpha if optimal else np.inf
     cores = workers or os.cpu_count() or 1
     if optimal:  # (label, friction factor): each start's LP is solved by the start itself
-        if P.n_dof // P.scene.ndof >= ONE_ROUND_MIN_FREE:
+        if _one_round(P):
             factors = tuple(factors)[:max(1, cores)]
         plan = [(start_label(float(f)), float(f)) for f in factors]
     else:
@@ -319,7 +323,7 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS, wo
             if deadline is not None and any(r["verified"] for r in results) and time.perf_counter() > deadline:
                 results.append(_not_run("time budget spent"))
                 continue
-            results.append(_start_job((P, lp_sol, start, alpha_ref, deadline)))
+            results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N)))
     runs, best = [], None
     for (label, _), r in zip(plan, results):
         runs.append({"start": label, **{k: v for k, v in r.items() if k != "z"}})
