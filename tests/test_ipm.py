@@ -117,3 +117,33 @@ def test_cli_offers_every_solver():
     """The CLI lists the solver names without importing cvxpy; the list must follow limit.solve.lp."""
     from limit import cli
     assert sorted(cli.LP_SOLVERS) == sorted(lpmod.SOLVERS) and set(lpmod.CVXPY_SOLVERS) | {"ipm", "auto"} == set(lpmod.SOLVERS)
+
+
+def test_warm_start_reaches_the_cold_answer_of_a_changed_lp():
+    """The iterative LP of step 2 changes only the yield right-hand side c between LPs. A solve
+    warm-started from the first LP's point must reach the optimum of the second LP that HiGHS
+    finds on its own (a second method; the problem built by limit.solve.lpsub): the friction
+    capacities of a 2D wall of 100 blocks, moved from the LP's N to 0.7 N."""
+    import scipy.sparse as sp
+
+    from limit.solve import iterative_lp, lpsub
+
+    P = assemble(load_scene(B.running_bond_wall(10, 10, dim=2, mu=0.9)))
+    sol, _, _ = solve_lp(P, "clarabel", fallback=False)
+    fr, Yc, ncol, ncoef = iterative_lp.friction_rows(P)
+    nstar = (sol.x / P.Dx)[ncol]
+
+    def rhs(scale):
+        c = np.zeros(Yc.shape[0])
+        c[fr] = -ncoef * np.maximum(scale * nstar, 1e-8 * nstar.max())
+        return c
+
+    first = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=rhs(1.0))
+    warm = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=rhs(0.7), warm=first)
+    nx = P.model.n_x
+    ref = lpsub.solve(np.r_[-1.0, np.zeros(nx)], sp.hstack([sp.csr_matrix(P.fLh.reshape(-1, 1)), P.Eh]).tocsr(),
+                      -P.f0h, sp.hstack([sp.csr_matrix((Yc.shape[0], 1)), Yc]).tocsr(), rhs(0.7),
+                      np.full(1 + nx, -np.inf), np.full(1 + nx, np.inf), "highs")
+    assert first["status"] == warm["status"] == "optimal" and ref.ok
+    assert warm["alpha"] == pytest.approx(ref.z[0], rel=1e-7)
+    assert abs(warm["alpha"] - first["alpha"]) > 1e-3  # the second LP is a different one

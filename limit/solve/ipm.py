@@ -46,6 +46,11 @@ REG_N_MAX = 1e-7
 ALPHA_DIVERGED = 1e9
 #: rounds of iterative refinement of each Newton step
 REFINE = 3
+#: warm start (:func:`solve`'s ``warm``): slacks and multipliers below WARM_SHIFT x their mean
+#: in the given point are raised to it, back into the interior. Measured on the iterative LP of
+#: a 3,052-block 2D wall (tolerance 1e-4, cold 31-40 iterations): 0.001 failed, 0.01 took 50-70
+#: iterations, 0.1 25-33, 0.2 to 1 21-34
+WARM_SHIFT = 1.0
 #: a Newton step whose residual is below this (scaled units) is not refined
 REFINE_ABS = 1e-11
 
@@ -240,7 +245,8 @@ class _Newton:
 
 
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
-          tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None) -> dict:
+          tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None,
+          warm: dict | None = None) -> dict:
     """Static LP by the structured interior point method (see :func:`_solve`).
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
@@ -251,17 +257,20 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c)
+        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm)
 
 
-def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None) -> dict:
+def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None) -> dict:
     """Static LP by the structured interior point method.
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
     status ("optimal" or "failed"), alpha, xh (n_x,), vh (n_dof,), lamh
-    (n_faces,), iterations, reason and per-phase seconds. ``tol`` bounds the
+    (n_faces,), s (m,) the slacks, iterations, reason and per-phase seconds. ``tol`` bounds the
     relative primal and dual residuals and the duality gap (scaled problem). ``c``
-    (m,): right-hand side of the yield rows (default 0).
+    (m,): right-hand side of the yield rows (default 0). ``warm``: a result of an earlier
+    solve of the same matrices (keys xh, alpha, vh, s, lamh) to start from, its slacks and
+    multipliers raised to :data:`WARM_SHIFT` x their mean (default: the cold start x = 0,
+    s = z = 1).
     """
     t0 = time.perf_counter()
     Eh = sp.csr_matrix(Eh)
@@ -279,6 +288,10 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None) -> dict:
     z = np.ones(m)
     y = np.zeros(nd)
     cy = np.zeros(Yh.shape[0]) if c is None else np.asarray(c, float)
+    if warm is not None:
+        x, a, y = warm["xh"].copy(), float(warm["alpha"]), warm["vh"].copy()
+        s = np.maximum(warm["s"], WARM_SHIFT * max(float(np.mean(np.abs(warm["s"]))), 1e-300))
+        z = np.maximum(warm["lamh"], WARM_SHIFT * max(float(np.mean(np.abs(warm["lamh"]))), 1e-300))
     nb = 1.0 + np.abs(b).max(initial=0.0)
     nc = 1.0 + np.abs(cy).max(initial=0.0)
     t_setup = time.perf_counter() - t0
@@ -327,5 +340,5 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None) -> dict:
         s += ap * ds
         y += ad * dy
         z += ad * dz
-    return {"status": status, "reason": reason, "alpha": a, "xh": x, "vh": y, "lamh": z, "iterations": it,
+    return {"status": status, "reason": reason, "alpha": a, "xh": x, "vh": y, "lamh": z, "s": s, "iterations": it,
             "setup_s": t_setup, "factor_s": t_fact, "solve_s": time.perf_counter() - t0}
