@@ -170,3 +170,25 @@ def test_starts_in_parallel_give_what_they_give_one_after_another():
     two = step2_large.solve(P, sol, workers=2)
     assert one["workers"] == 1 and two["workers"] == 2
     assert [r["alpha"] for r in one["starts"]] == pytest.approx([r["alpha"] for r in two["starts"]], rel=1e-9)
+
+
+
+@pytest.mark.parametrize("dim,warm", [(2, True), (3, False)])
+def test_large_walls_warm_start_their_lps_in_2d_only(monkeypatch, dim, warm):
+    """From ONE_ROUND_MIN_FREE free blocks on (lowered here to 1), each LP of a 2D start begins
+    at the last LP's point; in 3D it does not (measured worse there, WARM_START_DIMS)."""
+    from limit.solve import iterative_lp
+
+    seen = []
+    orig = iterative_lp.solve
+
+    def spy(*a, **kw):
+        seen.append(kw.get("warm_start"))
+        return orig(*a, **kw)
+
+    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 1)
+    monkeypatch.setattr(iterative_lp, "solve", spy)
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=dim, mu=0.9))
+    (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
+    step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
+    assert seen == [warm]

@@ -56,17 +56,21 @@ def friction_rows(P):
 
 
 def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300, backend: str = "highs",
-          nstar0: np.ndarray | None = None, on_iterate=None, lp_tol=None) -> dict:
+          nstar0: np.ndarray | None = None, on_iterate=None, lp_tol=None, warm_start: bool = False) -> dict:
     """{"status", "alpha", "iterations", "history", "time_s"} of the iterative LP.
 
     ``nstar0``: the first N* (scaled, one per friction row; default: the LP's).
     ``on_iterate(it, r, nstar)`` (ipm backend): called after each LP with its result; a
     true return value stops the iteration (status "stopped"). With the ipm backend ``omega``
     may be a callable, asked before each update (an adaptive relaxation), and ``lp_tol`` (a
-    number, or a callable asked before each LP) the interior point method's tolerance."""
+    number, or a callable asked before each LP) the interior point method's tolerance, and
+    ``warm_start`` starts each LP from the last one's point (:func:`limit.solve.ipm.solve`'s
+    ``warm``; cold when that fails). A warm start ends at another point of a degenerate LP's
+    optimal face than the cold start's central one, and so changes the iteration's path:
+    the confined block of scenes/builders.py stalled with it (0.625 without)."""
     t0 = time.perf_counter()
     if backend == "ipm":
-        return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol)
+        return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol, warm_start)
     # Yield rows with the normal-force term of the friction faces removed (moved to the right-hand side).
     fr, Yc, ncol, ncoef = friction_rows(P)
     nx = P.model.n_x
@@ -108,11 +112,11 @@ NSTAR_FLOOR = 1e-8
 NSTAR_FLOOR_MAX = 1e-4
 
 
-def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=None) -> dict:
+def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=None, warm_start=False) -> dict:
     from limit.solve import ipm
     fr, Yc, ncol, ncoef = friction_rows(P)
     nstar = (lp_sol.x / P.Dx)[ncol] if nstar0 is None else np.asarray(nstar0, float).copy()
-    history, r, it, status = [], None, 0, "not_converged"
+    history, r, it, status, warm = [], None, 0, "not_converged", None
     for it in range(1, max_iter + 1):
         c = np.zeros(Yc.shape[0])
         # a joint that opened (N* = 0) keeps a sliver of shear capacity: with none, its two
@@ -122,7 +126,12 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
             floor = rel * max(float(np.max(nstar, initial=0.0)), 1e-300)
             c[fr] = -ncoef * np.maximum(nstar, floor)
             t_lp = lp_tol() if callable(lp_tol) else lp_tol
-            r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c, **({} if t_lp is None else {"tol": t_lp}))
+            kw = {} if t_lp is None else {"tol": t_lp}
+            r = None
+            if warm is not None and warm_start:  # from the last LP's point; cold if that fails
+                r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c, warm=warm, **kw)
+            if r is None or r["status"] != "optimal":
+                r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c, **kw)
             if r["status"] == "optimal" or rel >= NSTAR_FLOOR_MAX:
                 break
             rel *= 100.0
@@ -130,6 +139,7 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
             return {"status": "failed", "alpha": None, "iterations": it, "history": history,
                     "time_s": time.perf_counter() - t0, "reason": f"LP {it}: {r['reason']}"}
         history.append(float(r["alpha"]))
+        warm = r
         nnew = r["xh"][ncol]
         change = float(np.max(np.abs(nnew - nstar), initial=0.0)) / max(float(np.max(np.abs(nnew), initial=0.0)), 1e-300)
         if on_iterate is not None and on_iterate(it, r, nstar):

@@ -37,9 +37,11 @@ the loose early LPs :data:`LP_TOL_FAR`, the first-passing snap :data:`SNAP_FIRST
 Clarabel for the snap :data:`SNAP_BACKENDS`). 2D 3,052 blocks: 0.337984 verified by both
 starts (one per core, :data:`ONE_ROUND_MIN_FREE`) in 52 s (all three in 89 s before; before HiGHS
 was spared the snaps Clarabel proved infeasible, the 0.5 mu start had not verified after 11
-minutes). 2D 10,050 blocks: 0.335865 verified by one of two starts in 511 s (before the
-plateau snap :data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s:
-133 LPs of about 4.6 s). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
+minutes). 2D 10,050 blocks: 0.335865 verified by both starts in 533 s, the first after 356 s (524 s and one start measured
+the same day before each LP started from the last one's point, :data:`WARM_START_DIMS`, and
+the LPs near a collapse state were solved to 1e-7 in 2D, :data:`LP_TOL_NEAR`; before the plateau snap
+:data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s: 133 LPs of
+about 4.6 s). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s. 3D 3,024 blocks: 0.525052 verified by both starts in 204 s (none in
 600 s before the snap took Clarabel's AlmostSolved).
 """
@@ -61,6 +63,9 @@ OMEGA = {2: 1.0, 3: 0.5}
 #: ... and from ONE_ROUND_MIN_FREE free blocks on: 10,050 2D blocks oscillated at omega = 1 for its
 #: first 10 LPs (residual 0.15 to 1.5, alpha 0.15 to 0.44) before the stall rule halved it
 OMEGA_LARGE = 0.5
+#: (tried at 10,050 2D blocks, one start, and not kept: 0.25 from the start stalled at a residual of
+#: 0.05; Anderson acceleration of N* with a memory of 5 (Walker & Ni 2011) stalled at 0.12; a
+#: relaxation per friction row, halved where its residual changed sign, was no better than one)
 OMEGA_MIN = 0.125
 STALL = 8
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
@@ -77,6 +82,11 @@ PLATEAU = 4
 #: 3D 305- and 1,017-block walls: the same alphas as before (0.349206, 0.579105, best 0.553388)
 LP_TOL_FAR = 1e-4
 FAR_COMP = 1e-2
+#: ... and below FAR_COMP, per dimension (None: ipm's default 1e-9): at 10,050 2D blocks an LP at
+#: 1e-9 failed to converge in 200 iterations (118 s) and ended its start; at 1e-7 the same start
+#: verified 0.335865 (the snap's piece LPs and the check are exact regardless). In 3D 1e-7 changed
+#: the path of the 3,024-block wall's first start: 0.526707 in 216 s instead of 0.525052 in 204 s
+LP_TOL_NEAR = {2: 1e-7, 3: None}
 #: flowing-face rules of the snap, and whether the first one passing the check is kept: at scale
 #: "support" is the one that passes, and stopping there saves the second piece LP (4-5 s at
 #: 1,008 blocks)
@@ -95,6 +105,16 @@ START_FACTORS = (1.0, 0.5, 0.25)
 #: a start that waits for a core never gets one within the budget (10,050 blocks, 2 cores: the
 #: third start did not begin in 600 s); at 3,052 blocks all three starts verified the same alpha
 ONE_ROUND_MIN_FREE = 2000
+#: (tried and not kept: stopping the other starts 25 % of its time after the first one verified;
+#: the 3D wall of 3,024 blocks then kept the 0.530657 of the start that verified first, 130 s, and
+#: lost the 0.525052 that the other reaches at about 200 s)
+#: ... and there, in these dimensions, each LP starts from the last one's point (iterative_lp's
+#: ``warm_start``; with it 21-34 interior point iterations per LP instead of 31-40 at 3,052 2D
+#: blocks, 1-2 s instead of 5-10 s per LP once near a collapse state at 10,050): 10,050 2D blocks
+#: verified 0.335865 by both starts in 533 s with it (the first after 356 s), by one in 524 s
+#: without; a 3D wall of 3,024 blocks did worse with it (0.527463 by one start at the 600 s budget,
+#: against 0.525052 in 204 s without)
+WARM_START_DIMS = (2,)
 
 
 def _one_round(P) -> bool:
@@ -245,7 +265,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
 
     out = iterative_lp.solve(P, None, omega=lambda: relax["omega"], tol=1e-10, max_iter=max_iter, backend="ipm",
                              nstar0=nstar0, on_iterate=on_iterate,
-                             lp_tol=lambda: LP_TOL_FAR if relax["best"] > FAR_COMP else None)
+                             lp_tol=lambda: LP_TOL_FAR if relax["best"] > FAR_COMP else LP_TOL_NEAR[P.scene.dim],
+                             warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS)
     rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
     if found:
