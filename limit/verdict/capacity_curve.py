@@ -29,14 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from limit.model.dims import rigid_velocity
 from limit.verdict.kinematic_check import FC_DEFAULT, horizontal_direction, linear, point_velocities, weights
-
-def _cross(w, r):
-    """w x r: 2D w scalar (rad/s), r (..., 2) -> (..., 2); 3D w (3,), r (..., 3)."""
-    if np.ndim(w) == 0:
-        return w * np.stack([-r[..., 1], r[..., 0]], axis=-1)
-    return np.cross(w, r)
-
 
 def _screw(w, h: float, d: int) -> tuple[np.ndarray, np.ndarray]:
     """(E, J) of a constant spatial twist (v_O, w) held for h: a point moves x -> E x + J v_O
@@ -100,7 +94,7 @@ class Chain:
         if i not in self.col:
             return np.zeros(self.d)
         u, w = self.uw(v, self.col[i])
-        return u + _cross(w, np.asarray(p, float) - self.c[i])
+        return rigid_velocity(np.r_[u, w], np.asarray(p, float) - self.c[i], self.d)
 
     def joints(self, I, v) -> list:
         """Joint equations: (kind, a, b, body point on a, body direction on a), kind 'n' (no
@@ -183,7 +177,7 @@ class Chain:
         t = v.copy()
         for k, i in enumerate(self.free):
             u, w = self.uw(v, k)
-            t[self.nd * k:self.nd * k + self.d] = u - _cross(w, self.c[i])
+            t[self.nd * k:self.nd * k + self.d] = rigid_velocity(np.r_[u, w], -self.c[i], self.d)
         return t
 
     def at_centroids(self, tw) -> np.ndarray:
@@ -191,7 +185,7 @@ class Chain:
         v = tw.copy()
         for k, i in enumerate(self.free):
             uo, w = self.uw(tw, k)
-            v[self.nd * k:self.nd * k + self.d] = uo + _cross(w, self.c[i])
+            v[self.nd * k:self.nd * k + self.d] = rigid_velocity(np.r_[uo, w], self.c[i], self.d)
         return v
 
     def move(self, tw, h):
