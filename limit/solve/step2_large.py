@@ -42,8 +42,9 @@ the same day before each LP started from the last one's point, :data:`WARM_START
 the LPs near a collapse state were solved to 1e-7 in 2D, :data:`LP_TOL_NEAR`; before the plateau snap
 :data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s: 133 LPs of
 about 4.6 s). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
-starts of 70, 38 and 28 s. 3D 3,024 blocks: 0.525052 verified by both starts in 204 s (none in
-600 s before the snap took Clarabel's AlmostSolved).
+starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
+start, 112-130 s), both verified in 204 s (none in 600 s before the snap took Clarabel's
+AlmostSolved).
 """
 from __future__ import annotations
 
@@ -105,16 +106,16 @@ START_FACTORS = (1.0, 0.5, 0.25)
 #: a start that waits for a core never gets one within the budget (10,050 blocks, 2 cores: the
 #: third start did not begin in 600 s); at 3,052 blocks all three starts verified the same alpha
 ONE_ROUND_MIN_FREE = 2000
-#: (tried and not kept: stopping the other starts 25 % of its time after the first one verified;
-#: the 3D wall of 3,024 blocks then kept the 0.530657 of the start that verified first, 130 s, and
-#: lost the 0.525052 that the other reaches at about 200 s)
 #: ... and there, in these dimensions, each LP starts from the last one's point (iterative_lp's
 #: ``warm_start``; with it 21-34 interior point iterations per LP instead of 31-40 at 3,052 2D
 #: blocks, 1-2 s instead of 5-10 s per LP once near a collapse state at 10,050): 10,050 2D blocks
 #: verified 0.335865 by both starts in 533 s with it (the first after 356 s), by one in 524 s
-#: without; a 3D wall of 3,024 blocks did worse with it (0.527463 by one start at the 600 s budget,
-#: against 0.525052 in 204 s without)
+#: without; a 3D wall of 3,024 blocks did worse with it (with 1e-7 near a collapse state too:
+#: 0.527463 by one start at the 600 s budget, against 0.525052 in 204 s without either)
 WARM_START_DIMS = (2,)
+#: (tried and not kept: stopping the other starts 25 % of its time after the first one verified;
+#: the 3D wall of 3,024 blocks then kept the 0.530657 of the start that verified first, 130 s, and
+#: lost the 0.525052 that the other reaches at about 200 s)
 
 
 def _one_round(P) -> bool:
