@@ -35,7 +35,7 @@ Measured (running-bond walls, mu 0.9, bench/step2_large_bench.py, 2 cores): 2D 1
 blocks, three starts, 0.341463 verified by all three in 9.6 s (median of 3; 41.8 s before
 the loose early LPs :data:`LP_TOL_FAR`, the first-passing snap :data:`SNAP_FIRST` and
 Clarabel for the snap :data:`SNAP_BACKENDS`). 2D 3,052 blocks: 0.337984 verified by both
-starts (one per core, :data:`ONE_ROUND_MIN_FREE`) in 52 s (all three in 89 s before; before HiGHS
+starts (one per core, :data:`ONE_ROUND_MIN_FREE`) in 42 s (52 s before :data:`WARM_START_DIMS`; all three in 89 s before that; before HiGHS
 was spared the snaps Clarabel proved infeasible, the 0.5 mu start had not verified after 11
 minutes). 2D 10,050 blocks: 0.335865 verified by both starts in 533 s, the first after 356 s (524 s and one start measured
 the same day before each LP started from the last one's point, :data:`WARM_START_DIMS`, and
