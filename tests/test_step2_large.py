@@ -172,7 +172,6 @@ def test_starts_in_parallel_give_what_they_give_one_after_another():
     assert [r["alpha"] for r in one["starts"]] == pytest.approx([r["alpha"] for r in two["starts"]], rel=1e-9)
 
 
-
 @pytest.mark.parametrize("dim,warm", [(2, True), (3, False)])
 def test_large_walls_warm_start_their_lps_in_2d_only(monkeypatch, dim, warm):
     """From ONE_ROUND_MIN_FREE free blocks on (lowered here to 1), each LP of a 2D start begins
