@@ -128,7 +128,8 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
             t_lp = lp_tol() if callable(lp_tol) else lp_tol
             kw = {} if t_lp is None else {"tol": t_lp}
             r = None
-            if warm is not None and warm_start:  # from the last LP's point; cold if that fails
+            if warm is not None and warm_start and rel == NSTAR_FLOOR:  # from the last LP's point; cold if that
+                # fails, and cold at every raised floor (a changed LP, far from the last point)
                 r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c, warm=warm, **kw)
             if r is None or r["status"] != "optimal":
                 r = ipm.solve(P.Eh, Yc, P.f0h, P.fLh, P.model.x_iface, c=c, **kw)

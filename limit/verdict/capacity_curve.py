@@ -77,9 +77,13 @@ class Chain:
         self.v = v0
         self.rows = self.joints(interfaces, v0)
 
+    def gen(self, v, k):
+        """Free block number k's generalised velocity (nd,) in v: [u (d,), w (1 in 2D, 3 in 3D)]."""
+        return v[self.nd * k:self.nd * (k + 1)]
+
     def uw(self, v, k):
         """(u (d,), w (scalar in 2D, (3,) in 3D)) of free block number k in v."""
-        x = v[self.nd * k:self.nd * (k + 1)]
+        x = self.gen(v, k)
         return x[:self.d], (x[2] if self.d == 2 else x[3:])
 
     def body(self, i, p):
@@ -93,8 +97,7 @@ class Chain:
         """Velocity (d,) of world point p on block i (zero for a fixed block)."""
         if i not in self.col:
             return np.zeros(self.d)
-        u, w = self.uw(v, self.col[i])
-        return rigid_velocity(np.r_[u, w], np.asarray(p, float) - self.c[i], self.d)
+        return rigid_velocity(self.gen(v, self.col[i]), np.asarray(p, float) - self.c[i], self.d)
 
     def joints(self, I, v) -> list:
         """Joint equations: (kind, a, b, body point on a, body direction on a), kind 'n' (no
@@ -176,16 +179,14 @@ class Chain:
         block is."""
         t = v.copy()
         for k, i in enumerate(self.free):
-            u, w = self.uw(v, k)
-            t[self.nd * k:self.nd * k + self.d] = rigid_velocity(np.r_[u, w], -self.c[i], self.d)
+            t[self.nd * k:self.nd * k + self.d] = rigid_velocity(self.gen(v, k), -self.c[i], self.d)
         return t
 
     def at_centroids(self, tw) -> np.ndarray:
         """Twists -> centroid velocities at the current configuration."""
         v = tw.copy()
         for k, i in enumerate(self.free):
-            uo, w = self.uw(tw, k)
-            v[self.nd * k:self.nd * k + self.d] = rigid_velocity(np.r_[uo, w], self.c[i], self.d)
+            v[self.nd * k:self.nd * k + self.d] = rigid_velocity(self.gen(tw, k), self.c[i], self.d)
         return v
 
     def move(self, tw, h):
