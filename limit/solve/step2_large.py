@@ -71,6 +71,14 @@ OMEGA_MIN = 0.125
 STALL = 8
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
+#: (tried and not kept: a repair of a failed snap, rounds of an elastic statics LP, min alpha + M sum
+#: of the flowing faces' slacks, then the kinematics on the faces it closed, else the phase 1
+#: mechanism's support as the next guess; with the snap tried from a residual of 1e-2 or 2e-2. On
+#: saved iterates of the 3,052-block wall's 0.5 mu start it reached the verified 0.337984 from
+#: residuals of 1.2e-2 to 1.1e-3 in 1 to 4 rounds (3-27 s), but end to end that start verified in
+#: 45.8 s against about 28 s without it; at 10,050 blocks one round of Clarabel's elastic statics
+#: and phase 1 took over 130 s beside the other start, and the repair had not verified at the
+#: 500 s budget)
 #: ... and, from the best iterate so far, when the residual has had no new low for PLATEAU LPs
 #: while that low is below SNAP_PLATEAU (and below every earlier snap's): at 10,050 2D blocks the
 #: residual sat at 1.6e-3 to 2.4e-3 for 10 LPs and no snap was ever tried; at 3,052 it settled at 2e-3
