@@ -16,8 +16,11 @@ from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
 
 
 def analyse(scene, method: str = "auto", options: Options | None = None, solver: str = lpmod.DEFAULT_SOLVER,
-            fallback: bool = True, check_kinematic: bool = False, nlp_options: dict | None = None) -> dict:
+            fallback: bool = True, check_kinematic: bool = False, nlp_options: dict | None = None,
+            verdict: bool = True) -> dict:
     """Full analysis of a scene: the result dict of docs/formats.md, 'Result file' (without ``dem``).
+    ``verdict`` False: no code check even where the scene states a demand (a caller that
+    checks against another demand).
 
     BLAS runs on one thread meanwhile (threadpoolctl, restored on return): the dense algebra
     here is small (SLSQP, 2x2 to 6x6 blocks), runs are parallelised by process, and a
@@ -27,10 +30,10 @@ def analyse(scene, method: str = "auto", options: Options | None = None, solver:
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options)
+        return _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options, verdict)
 
 
-def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options) -> dict:
+def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options, verdict=True) -> dict:
     t0 = time.perf_counter()
     P = assemble(scene, options)
     sol, attempts, residuals = solve_lp(P, solver, fallback, check_kinematic)
@@ -42,7 +45,7 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         if out["nlp"].get("status") == "optimal" and out["nlp"].get("alpha") is not None and \
                 out["nlp"]["alpha"] < -verify.TOL_GAP:
             out["nlp"]["status"] = "infeasible"
-    if scene.demand is not None:  # the code check, only for a scene that states a demand
+    if verdict and scene.demand is not None:  # the code check, only for a scene that states a demand
         from limit.verdict.local_check import scene_verdict
 
         out["verdict"] = scene_verdict(scene, out)

@@ -104,9 +104,10 @@ def cmd_check(args) -> int:
             raise SceneError(str(exc).replace("demand.ag_g", "--ag").replace("demand.", "--")) from None
     scene = load_scene(args.scene, strict=args.strict)
     try:
-        res = public(analyse(scene, method=args.method))
+        own_demand = demand is None and args.fc is None  # the scene's demand: its check is made by analyse
+        res = public(analyse(scene, method=args.method, verdict=own_demand))
         own = res.get("verdict") or {}
-        if demand is None and args.fc is None and own.get("status") == "done":  # the scene's demand: made once
+        if own_demand and own.get("status") == "done":
             a = {k: v for k, v in own.items() if k != "status"}
         else:
             a = verdict(scene, res, demand, args.fc)

@@ -76,6 +76,25 @@ def test_a_scene_with_a_demand_gets_a_verdict_in_its_result_file(tmp_path, capsy
     assert "verdict" not in json.loads((tmp_path / "p.json").read_text())
 
 
+def test_check_follows_the_mechanism_once_with_either_demand(tmp_path, monkeypatch, capsys):
+    """A scene stating a demand, checked with its own demand and with ``--ag``: the capacity
+    curve is followed once either way (the scene's check is not made and then replaced), and
+    the demand used is the one asked for (0.4 9.81 1.2 / 2 = 2.3544 m/s^2 with --ag 0.4)."""
+    from limit.verdict import capacity_curve
+
+    calls = []
+    real = capacity_curve.follow
+    monkeypatch.setattr(capacity_curve, "follow", lambda *a, **k: calls.append(1) or real(*a, **k))
+    f = _write(tmp_path, dict(B.single_block(2, 0.3, 1.0, mu=0.8), demand={"ag_g": 0.25, "S": 1.2}))
+    for extra, need in (([], 0.25 * 9.81 * 1.2 / 2), (["--ag", "0.4", "--S", "1.2"], 0.4 * 9.81 * 1.2 / 2)):
+        calls.clear()
+        out = tmp_path / "a.json"
+        assert main(["check", f, *extra, "--json", str(out)]) == 0
+        assert len(calls) == 1
+        assert json.loads(out.read_text())["check"]["linear"]["demand"] == pytest.approx(need, rel=1e-9)
+    capsys.readouterr()
+
+
 def test_a_bad_demand_in_a_scene_is_named(tmp_path, capsys):
     data = B.single_block(2, 0.3, 1.0, mu=0.8)
     for demand, key in (({"ag_g": 0.2, "TB": 0.6}, "TB < TC < TD"), ({"ag_g": 0.2, "Z": 3.0}, "above ground"),
