@@ -138,7 +138,9 @@ def cmd_sweep(args) -> int:
         raise SceneError(str(exc)) from None
     print(file=sys.stderr)
     nlp = (out.get("min_nlp") or {}).get("nlp") or {}
-    print(f"minimum LP alpha {out['min_alpha']:.6g} at {out['min_theta']:g} deg (0 = the scene's live direction); "
+    d = out.get("min_direction")
+    where = "" if d is None else ", live direction (" + ", ".join(f"{c:.4f}" for c in d) + ")"
+    print(f"minimum LP alpha {out['min_alpha']:.6g} at {out['min_theta']:g} deg (0 = the scene's live direction{where}); "
           f"frictional there: {nlp.get('alpha')} ({nlp.get('status')}); {out['time_s']:.1f} s")
     if args.json:  # reports.plots.direction_polar draws it
         jsonio.write_json(args.json, out)

@@ -49,6 +49,17 @@ def _turn(data: dict, theta_deg: float, verdict: bool = False) -> dict:
     return out
 
 
+def _azimuth(data: dict) -> float | None:
+    """Azimuth (degrees, counter-clockwise from +x seen from above) of the first live body
+    force's horizontal part, for gravity along -z; None for another gravity or no horizontal part."""
+    g = np.asarray(data.get("gravity", [0.0, 0.0, -9.81]), dtype=float)
+    live = data["loads"]["live"]
+    if not (g[0] == 0.0 and g[1] == 0.0 and g[2] < 0.0) or not live:
+        return None
+    d = np.asarray(live[0]["direction"], dtype=float)
+    return math.degrees(math.atan2(d[1], d[0])) % 360.0 if math.hypot(d[0], d[1]) > 0 else None
+
+
 def _lp_alpha(args) -> tuple[float, str, float | None, float]:
     from limit.analysis import analyse
     from limit.model.scene import load_scene
@@ -67,7 +78,9 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     "min_alpha" (LP), "min_nlp" (the analysis at the minimum: "lp", "nlp" (step 2 where it
     applies) and "verdict" (the code check there, for a scene with a demand), or None),
     "time_s", "lp_time_s" (summed over directions), "jobs", "mirror", "solved" (directions
-    solved)}. ``progress(done, total)`` is called as directions finish. ``mirror`` None: as
+    solved), "azimuth0" (degrees: where theta = 0 points, :func:`_azimuth`; None unless gravity is
+    along -z), "min_direction" (the first live body force's direction at the minimum, global
+    axes)}. ``progress(done, total)`` is called as directions finish. ``mirror`` None: as
     the scene declares (``"symmetry": "mirror"``); a mirror symmetry, declared or asked for,
     is checked first
     (:func:`limit.verdict.symmetry.check_mirror`: ValueError naming a block without its image)."""
@@ -121,7 +134,7 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     alpha = np.array(alpha, dtype=float)
     out = {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": None, "min_alpha": None,
            "min_nlp": None, "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs, "mirror": bool(mirror),
-           "solved": len(todo)}
+           "solved": len(todo), "azimuth0": _azimuth(data), "min_direction": None}
     if not np.isfinite(alpha).any():
         return {**out, "time_s": time.perf_counter() - t0}
     k = int(np.nanargmin(alpha))
@@ -133,4 +146,5 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         r = public(analyse(load_scene(_turn(data, float(thetas[k]), verdict=True)), method="auto"))
         at_min = {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}
     return {**out, "min_theta": float(thetas[k]), "min_alpha": float(alpha[k]), "min_nlp": at_min,
+            "min_direction": _turn(data, float(thetas[k]))["loads"]["live"][0]["direction"],
             "time_s": time.perf_counter() - t0}

@@ -295,23 +295,32 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
 
 def direction_polar(out: dict, path, title="") -> None:
     """Polar plot of alpha(theta) from :func:`limit.direction_sweep.sweep` (theta from the
-    scene's own live direction, counter-clockwise seen from above), the minimum marked."""
+    scene's own live direction, counter-clockwise seen from above), the minimum marked. Where
+    the sweep knows the global azimuth of theta = 0 (gravity along -z), the plot is turned to
+    it: seen from above with +x to the right, and theta = 0 drawn along the scene's direction."""
     th = np.radians(np.asarray(out["theta"], dtype=float))
     a = np.asarray(out["alpha"], dtype=float)
     fig = plt.figure(figsize=(4.8, 4.8))
     ax = fig.add_subplot(projection="polar")
+    az0 = out.get("azimuth0")
+    if az0 is not None:  # seen from above, +x to the right
+        ax.set_theta_offset(np.radians(az0))
     ok = np.isfinite(a)
     ax.plot(np.append(th[ok], th[ok][:1]), np.append(a[ok], a[ok][:1]), "o-", ms=3, lw=1.2, color=COLORS["lp"],
             label="LP alpha")
     if out.get("min_theta") is not None:
+        d = out.get("min_direction")
+        where = "" if d is None else " (" + ", ".join(f"{c:.3f}" for c in d) + ")"
         ax.plot([np.radians(out["min_theta"])], [out["min_alpha"]], "*", ms=14, color="crimson",
-                label=f"minimum {out['min_alpha']:.4g} at {out['min_theta']:g} deg")
+                label=f"minimum {out['min_alpha']:.4g} at {out['min_theta']:g} deg{where}")
         nlp = ((out.get("min_nlp") or {}).get("nlp") or {})
         if nlp.get("status") == "optimal" and nlp.get("alpha") is not None:
             ax.plot([np.radians(out["min_theta"])], [nlp["alpha"]], "D", ms=7, color=COLORS["nlp"],
                     label=f"frictional there {nlp['alpha']:.4g}")
     ax.set_rlim(0, 1.05 * float(np.nanmax(a)) if ok.any() else 1.0)
-    ax.set_title(("worst load direction" + (f": {title}" if title else "")), fontsize=9)
+    ax.set_title(("worst load direction" + (f": {title}" if title else "")
+                  + ("" if az0 is None else f"\nseen from above, +x to the right; theta from the live direction "
+                     f"(azimuth {az0:g} deg)")), fontsize=8)
     ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.1, -0.12))
     fig.tight_layout()
     fig.savefig(path, dpi=100)

@@ -37,7 +37,10 @@ def section(results: dict, by_name: dict, figs: Path) -> list[str]:
                 f"({res.get('solved', len(res['theta']))} solved" + (", the rest mirrored: declared symmetric)"
                                                                        if res.get("mirror") else ")")
                 + f"; along the scene's own direction (0 deg) LP alpha {along:.4g}; minimum LP alpha "
-                f"{res['min_alpha']:.4g} at {res['min_theta']:g} deg (counter-clockwise seen from above), {fric}; "
+                f"{res['min_alpha']:.4g} at {res['min_theta']:g} deg (counter-clockwise seen from above"
+                + ("" if res.get("min_direction") is None else
+                   ", live direction (" + ", ".join(f"{c:.3f}" for c in res["min_direction"]) + ")")
+                + f"), {fric}; "
                 f"{res['time_s']:.1f} s.", "", f"![worst load direction of {name}](figures/{polar.name})"]
         mech = figs / f"{name}-sweep-mechanism.png"
         if lp.get("mechanism") and plots.mechanism_figure(load_scene(path), at, None, mech):

@@ -55,3 +55,16 @@ def test_step_2_runs_at_the_minimum_and_inputs_are_checked():
     with pytest.raises(ValueError, match=r"loads.live\[0\]"):
         sweep(bad, 90.0, jobs=1)
     assert math.isfinite(out["time_s"])
+
+
+def test_the_minimum_is_given_as_a_global_direction():
+    """A block 0.3 (x) by 0.6 (y) by 1 m loaded along +y (azimuth 90 deg): rocking about a base
+    edge gives b/h = 0.3 along x and t/h = 0.6 along y (the closed form above with two sides),
+    so the minimum is at theta = 90 or 270 deg from +y, a live direction of -x or +x."""
+    data = B.single_block(3, 0.3, 1.0, t=0.6, mu=0.8)
+    data["loads"]["live"][0]["direction"] = [0.0, 1.0, 0.0]
+    out = sweep(data, 30.0, jobs=1, frictional=False)
+    assert out["azimuth0"] == pytest.approx(90.0)
+    assert out["min_alpha"] == pytest.approx(0.3, rel=1e-6) and out["min_theta"] in (90.0, 270.0)
+    assert np.allclose(np.abs(out["min_direction"]), [1.0, 0.0, 0.0], atol=1e-12)
+    assert out["alpha"][0] == pytest.approx(0.6, rel=1e-6)
