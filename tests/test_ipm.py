@@ -147,3 +147,30 @@ def test_warm_start_reaches_the_cold_answer_of_a_changed_lp():
     assert first["status"] == warm["status"] == "optimal" and ref.ok
     assert warm["alpha"] == pytest.approx(ref.z[0], rel=1e-7)
     assert abs(warm["alpha"] - first["alpha"]) > 1e-3  # the second LP is a different one
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_proximal_qp_against_clarabel(dim):
+    """The proximal form ``min -alpha + 1/2 sum q (x - x_ref)^2`` (limit.solve.ipm.solve's q,
+    x_ref) against the same convex QP in cvxpy/Clarabel, on a small running-bond wall, with the
+    normal forces pulled toward zero: the same alpha and actions. And with x_ref an optimum of the LP itself the term vanishes there
+    and is >= 0 elsewhere, so the QP's alpha is the LP's."""
+    import cvxpy as cp
+
+    P = assemble(load_scene(B.running_bond_wall(3, 3, dim=dim, mu=0.7)))
+    lp = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface)
+    assert lp["status"] == "optimal"
+    n_x = P.Yh.shape[1]
+    q = np.where(P.model.normal_col, 2.0, 0.0)
+    x_ref = np.zeros(n_x)  # pulls every normal force to zero, which equilibrium forbids: alpha drops
+    got = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, q=q, x_ref=x_ref)
+    x, a = cp.Variable(n_x), cp.Variable()
+    prob = cp.Problem(cp.Minimize(-a + 0.5 * cp.sum(cp.multiply(q, cp.square(x - x_ref)))),
+                      [P.Eh @ x + P.fLh * a == -P.f0h, P.Yh @ x <= 0])
+    prob.solve(solver="CLARABEL")
+    assert got["status"] == "optimal" and prob.status == "optimal"
+    assert got["alpha"] == pytest.approx(a.value, abs=1e-6)
+    assert np.max(np.abs(got["xh"] - x.value) * np.sqrt(q)) < 1e-4
+    assert got["alpha"] < lp["alpha"] - 1e-6  # the pull toward x_ref costs alpha here
+    same = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, q=q, x_ref=lp["xh"])
+    assert same["status"] == "optimal" and same["alpha"] == pytest.approx(lp["alpha"], abs=1e-7)

@@ -191,3 +191,22 @@ def test_large_walls_warm_start_their_lps_in_2d_only(monkeypatch, dim, warm):
     (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
     step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
     assert seen == [warm]
+
+
+def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monkeypatch):
+    """The proximal iterative LP (PROX, used from PROX_MIN_FREE free blocks on) forced onto the
+    3-course wall of test_small_wall_agrees_with_the_global_minimum: every verified start is a
+    collapse state, so never below the MILP's global minimum, and the best one reaches it."""
+    from limit.solve import iterative_lp, milp
+
+    P, sol = _solved(B.running_bond_wall(3, 2, dim=2, L=0.4, H=0.3, mu=0.9))
+    seen = []
+    real = iterative_lp.solve
+    monkeypatch.setattr(iterative_lp, "solve", lambda *a, **k: seen.append(k.get("prox")) or real(*a, **k))
+    monkeypatch.setattr(step2_large, "PROX_MIN_FREE", 1)
+    big = step2_large.solve(P, sol, workers=1)
+    g = milp.global_minimum(P, sol.alpha, time_limit=300)
+    assert seen and all(p == step2_large.PROX[2] for p in seen)
+    assert g["status"] == "optimal" and big["ok"]
+    assert big["alpha_worst"] >= g["alpha"] - 1e-7
+    assert big["alpha"] == pytest.approx(g["alpha"], rel=1e-6)

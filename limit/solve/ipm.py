@@ -5,7 +5,9 @@ Solves the scaled static LP of :mod:`limit.solve.lp`::
     minimise -alpha  s.t.  Eh x + fLh alpha = -f0h,   Yh x + s = c,  s >= 0
 
 (c = 0 for the LP of step 1; the iterative LP of step 2 moves the friction
-capacities mu N* into c, :mod:`limit.solve.iterative_lp`)
+capacities mu N* into c, :mod:`limit.solve.iterative_lp`, and may add a proximal term
+``1/2 sum q (x - x_ref)^2`` to the objective: a convex QP, whose diagonal q joins the
+interface blocks below)
 
 with Mehrotra's predictor-corrector (Gondzio's extra centrality correctors were
 tried: 10-15 % fewer iterations, more time, so not used). Its dual variables are the mechanism
@@ -91,20 +93,24 @@ class _Blocks:
             Yd = np.zeros((len(gs), int(counts.max(initial=0)), k))
             Yd[fg[fpos[Y.row[nz]]], frow[fpos[Y.row[nz]]], pos_in_group[Y.col[nz]]] = Y.data[nz]
             xidx = starts[gs][:, None] + np.arange(k)[None, :]  # (ng, k) action indices
-            self.classes.append((Yd, faces, fg, frow))
+            self.classes.append((Yd, faces, fg, frow, xidx))
             rows.append(np.repeat(xidx, k, axis=1).ravel())
             cols.append(np.tile(xidx, (1, k)).ravel())
         self.n_x = n_x
         self.rows = np.concatenate(rows) if rows else np.empty(0, int)
         self.cols = np.concatenate(cols) if cols else np.empty(0, int)
 
-    def inverse(self, d: np.ndarray) -> sp.csr_matrix:
-        """``(Yh.T diag(d) Yh)^-1`` as a block-diagonal sparse matrix (n_x, n_x)."""
+    def inverse(self, d: np.ndarray, q: np.ndarray | None = None) -> sp.csr_matrix:
+        """``(Yh.T diag(d) Yh + diag(q))^-1`` as a block-diagonal sparse matrix (n_x, n_x)
+        (q (n_x,) >= 0: the proximal weights of :func:`solve`; None: none)."""
         vals = []
-        for Yd, faces, fg, frow in self.classes:
+        for Yd, faces, fg, frow, xidx in self.classes:
             Dp = np.zeros(Yd.shape[:2])
             Dp[fg, frow] = d[faces]
             H = np.matmul(Yd.transpose(0, 2, 1) * Dp[:, None, :], Yd)  # Yd.T diag(d) Yd per interface
+            if q is not None:
+                k = Yd.shape[2]
+                H[:, np.arange(k), np.arange(k)] += q[xidx]
             vals.append(_spd_inverse(H).ravel())
         return sp.csr_matrix((np.concatenate(vals), (self.rows, self.cols)), shape=(self.n_x, self.n_x))
 
@@ -202,8 +208,9 @@ class _Newton:
     equilibrium ``Eh x + fL a + f0``, yield ``Yh x + s`` and centring ``s z - target``.
     """
 
-    def __init__(self, Eh, EhT, Yh, YhT, f, red, Hinv, s, z, verbose=False):
+    def __init__(self, Eh, EhT, Yh, YhT, f, red, Hinv, s, z, verbose=False, q=None):
         self.Eh, self.EhT, self.Yh, self.YhT, self.f = Eh, EhT, Yh, YhT, f
+        self.qx = q  # proximal weights (n_x,) or None: the x row is q dx + Eh.T dy + Yh.T dz = -r1
         self.red, self.Hinv, self.s, self.z = red, Hinv, s, z
         red.factor(Hinv, verbose)
         self.q = None  # N^-1 fL, solved with the first right-hand side
@@ -234,7 +241,7 @@ class _Newton:
         best = None
         for _ in range(REFINE):
             dx, da, ds, dy, dz = dv
-            e = (self.EhT @ dy + self.YhT @ dz + r1, float(self.f @ dy) + r2, self.Eh @ dx + self.f * da + r3,
+            e = (self.EhT @ dy + self.YhT @ dz + r1 + (0.0 if self.qx is None else self.qx * dx), float(self.f @ dy) + r2, self.Eh @ dx + self.f * da + r3,
                  self.Yh @ dx + ds + r4, self.z * ds + self.s * dz + r5)
             err = max(np.abs(np.atleast_1d(v)).max(initial=0.0) for v in e)
             if err <= REFINE_ABS or (best is not None and err >= 0.5 * best):
@@ -246,7 +253,7 @@ class _Newton:
 
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
           tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None,
-          warm: dict | None = None) -> dict:
+          warm: dict | None = None, q: np.ndarray | None = None, x_ref: np.ndarray | None = None) -> dict:
     """Static LP by the structured interior point method (see :func:`_solve`).
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
@@ -257,10 +264,10 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm)
+        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref)
 
 
-def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None) -> dict:
+def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None, q=None, x_ref=None) -> dict:
     """Static LP by the structured interior point method.
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
@@ -270,7 +277,8 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None)
     (m,): right-hand side of the yield rows (default 0). ``warm``: a result of an earlier
     solve of the same matrices (keys xh, alpha, vh, s, lamh) to start from, its slacks and
     multipliers raised to :data:`WARM_SHIFT` x their mean (default: the cold start x = 0,
-    s = z = 1).
+    s = z = 1). ``q`` (n_x,) >= 0 and ``x_ref`` (n_x,): a proximal term, the objective becomes
+    ``-alpha + 1/2 sum q (x - x_ref)^2`` (a convex QP; primal and dual take one step length).
     """
     t0 = time.perf_counter()
     Eh = sp.csr_matrix(Eh)
@@ -300,12 +308,14 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None)
     it = 0
     for it in range(1, max_iter + 1):
         rd = EhT @ y + YhT @ z
+        if q is not None:
+            rd = rd + q * (x - x_ref)
         ra = float(f @ y) - 1.0
         rp = Eh @ x + f * a - b
         rs = Yh @ x + s - cy
         mu = float(s @ z) / m
         pobj, dobj = -a, float(-b @ y - cy @ z)
-        gap = abs(pobj - dobj) / (1.0 + abs(pobj))
+        gap = abs(pobj - dobj) / (1.0 + abs(pobj)) if q is None else abs(float(s @ z)) / (1.0 + abs(a))
         res_p = max(np.abs(rp).max(initial=0.0) / nb, np.abs(rs).max(initial=0.0) / nc)
         res_d = max(np.abs(rd).max(initial=0.0) / (1.0 + np.abs(z).max(initial=0.0)), abs(ra))
         if verbose:
@@ -321,7 +331,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None)
             break
         tf = time.perf_counter()
         try:
-            newton = _Newton(Eh, EhT, Yh, YhT, f, red, blocks.inverse(z / s), s, z, verbose)
+            newton = _Newton(Eh, EhT, Yh, YhT, f, red, blocks.inverse(z / s, q), s, z, verbose, q)
         except ArithmeticError:
             reason = f"the reduced system is not positive definite at iteration {it}"
             break
@@ -333,6 +343,8 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None)
         sigma = (mu_aff / mu) ** 3
         dx, da, ds, dy, dz = newton.direction(*res, s * z + dv[2] * dv[4] - sigma * mu)  # corrector
         ap, ad = 0.99 * _max_step(s, ds), 0.99 * _max_step(z, dz)
+        if q is not None:
+            ap = ad = min(ap, ad)
         if verbose:
             print(f"    steps {ap:.3f} {ad:.3f} sigma {sigma:.2e}")
         x += ap * dx

@@ -56,7 +56,8 @@ def friction_rows(P):
 
 
 def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300, backend: str = "highs",
-          nstar0: np.ndarray | None = None, on_iterate=None, lp_tol=None, warm_start: bool = False) -> dict:
+          nstar0: np.ndarray | None = None, on_iterate=None, lp_tol=None, warm_start: bool = False,
+          prox: float | None = None) -> dict:
     """{"status", "alpha", "iterations", "history", "time_s"} of the iterative LP.
 
     ``nstar0``: the first N* (scaled, one per friction row; default: the LP's).
@@ -67,10 +68,15 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
     ``warm_start`` starts each LP from the last one's point (:func:`limit.solve.ipm.solve`'s
     ``warm``; cold when that fails). A warm start ends at another point of a degenerate LP's
     optimal face than the cold start's central one, and so changes the iteration's path:
-    the confined block of scenes/builders.py stalled with it (0.625 without)."""
+    the confined block of scenes/builders.py stalled with it (0.625 without). ``prox`` (ipm
+    backend; None: none): each LP becomes the QP ``max alpha - rho/2 sum (N - N*)^2`` over the
+    normal forces of the friction rows, rho = prox / sum N*^2 (so that N = 0 throughout would
+    cost prox/2 in alpha): among the statics of a degenerate optimal face it takes those nearest
+    N*, and a fixed point N = N* is an exact LP optimum (the term and its gradient vanish there).
+    A proximal point step (Rockafellar 1976) on the statics."""
     t0 = time.perf_counter()
     if backend == "ipm":
-        return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol, warm_start)
+        return _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol, warm_start, prox)
     # Yield rows with the normal-force term of the friction faces removed (moved to the right-hand side).
     fr, Yc, ncol, ncoef = friction_rows(P)
     nx = P.model.n_x
@@ -112,7 +118,19 @@ NSTAR_FLOOR = 1e-8
 NSTAR_FLOOR_MAX = 1e-4
 
 
-def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=None, warm_start=False) -> dict:
+def _proximal(P, ncol, nstar, prox) -> dict:
+    """The ipm keywords (q, x_ref) of the proximal term of :func:`solve` (``prox``) about N*."""
+    ok = ncol >= 0
+    ucol = np.unique(ncol[ok])
+    x_ref = np.zeros(P.model.n_x)
+    x_ref[ncol[ok]] = nstar[ok]  # one N* per friction row; the rows of one normal force share it
+    q = np.zeros(P.model.n_x)
+    q[ucol] = prox / max(float(x_ref[ucol] @ x_ref[ucol]), 1e-300)
+    return {"q": q, "x_ref": x_ref}
+
+
+def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=None, warm_start=False,
+               prox=None) -> dict:
     from limit.solve import ipm
     fr, Yc, ncol, ncoef = friction_rows(P)
     nstar = (lp_sol.x / P.Dx)[ncol] if nstar0 is None else np.asarray(nstar0, float).copy()
@@ -127,6 +145,8 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
             c[fr] = -ncoef * np.maximum(nstar, floor)
             t_lp = lp_tol() if callable(lp_tol) else lp_tol
             kw = {} if t_lp is None else {"tol": t_lp}
+            if prox:
+                kw.update(_proximal(P, ncol, nstar, prox))
             r = None
             if warm is not None and warm_start and rel == NSTAR_FLOOR:  # from the last LP's point; cold if that
                 # fails, and cold at every raised floor (a changed LP, far from the last point)

@@ -20,6 +20,9 @@ scenes whose associative LP has no mechanism):
    failed snap is retried only when the residual has fallen tenfold. A residual
    that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
    its best iterate snapped too.
+   From ``PROX_MIN_FREE`` free blocks on (2D), each LP is the proximal QP of
+   :func:`limit.solve.iterative_lp.solve` (``prox``, :data:`PROX`): the normal forces are
+   pulled toward N*, so that the statics stop jumping across a degenerate optimal face.
 3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
    0.25 mu), one per core at once, each solving its own reduced-friction LP; from
    ``ONE_ROUND_MIN_FREE`` free blocks on, only as many as there are cores. The
@@ -41,7 +44,9 @@ minutes). 2D 10,050 blocks: 0.335865 verified by both starts in 533 s, the first
 the same day before each LP started from the last one's point, :data:`WARM_START_DIMS`, and
 the LPs near a collapse state were solved to 1e-7 in 2D, :data:`LP_TOL_NEAR`; before the plateau snap
 :data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s: 133 LPs of
-about 4.6 s). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
+about 4.6 s). On a machine 2.5 times slower (2026-11-26: 20.6 s for the first LP, 8 s before),
+neither start verified within 600 s, and with the proximal LPs (:data:`PROX`) the 0.5 mu start
+verified 0.335865 at 457 s. 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
 start, 112-130 s), both verified in 204 s (none in 600 s before the snap took Clarabel's
 AlmostSolved).
@@ -68,6 +73,16 @@ OMEGA_LARGE = 0.5
 #: 0.05; Anderson acceleration of N* with a memory of 5 (Walker & Ni 2011) stalled at 0.12; a
 #: relaxation per friction row, halved where its residual changed sign, was no better than one)
 OMEGA_MIN = 0.125
+#: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension, from
+#: PROX_MIN_FREE free blocks on (None: none). Measured in one session (2026-11-26, a machine on
+#: which one LP of 10,050 blocks took 20.6 s, 8 s before), the whole route, both starts, 600 s
+#: budget: 10,050 2D blocks, without it neither start verified (one stalled at a residual of
+#: 8.4e-3, the other ran out of time); with 0.03 the 0.5 mu start verified 0.335865 at 457 s, with
+#: LPs of 5.6-7.5 s against 11.4 s (the QP's interior point converges in fewer iterations).
+#: 3,052 blocks: 88.2 s with it against 76.1 and 82.1 s without (the same 0.337984), hence the
+#: threshold. Weights 0.1 and 1 stalled at 10,050 blocks; at 1,008, 0.1 took 10 LPs against 16
+PROX = {2: 0.03, 3: None}
+PROX_MIN_FREE = 5000
 STALL = 8
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
@@ -275,7 +290,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     out = iterative_lp.solve(P, None, omega=lambda: relax["omega"], tol=1e-10, max_iter=max_iter, backend="ipm",
                              nstar0=nstar0, on_iterate=on_iterate,
                              lp_tol=lambda: LP_TOL_FAR if relax["best"] > FAR_COMP else LP_TOL_NEAR[P.scene.dim],
-                             warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS)
+                             warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS,
+                             prox=PROX[P.scene.dim] if P.n_dof // P.scene.ndof >= PROX_MIN_FREE else None)
     rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
     if found:
