@@ -122,7 +122,7 @@ def cmd_check(args) -> int:
 
 def cmd_sweep(args) -> int:
     from limit import jsonio
-    from limit.direction_sweep import sweep
+    from limit.direction_sweep import format_direction, sweep
 
     if not (0 < args.step <= 180):
         raise SceneError(f"--step: must be in (0, 180] degrees, got {args.step}")
@@ -139,7 +139,7 @@ def cmd_sweep(args) -> int:
     print(file=sys.stderr)
     nlp = (out.get("min_nlp") or {}).get("nlp") or {}
     d = out.get("min_direction")
-    where = "" if d is None else ", live direction (" + ", ".join(f"{c:.4f}" for c in d) + ")"
+    where = "" if d is None else f", live direction {format_direction(d, 4)}"
     print(f"minimum LP alpha {out['min_alpha']:.6g} at {out['min_theta']:g} deg (0 = the scene's live direction{where}); "
           f"frictional there: {nlp.get('alpha')} ({nlp.get('status')}); {out['time_s']:.1f} s")
     if args.json:  # reports.plots.direction_polar draws it

@@ -60,6 +60,11 @@ def _azimuth(data: dict) -> float | None:
     return math.degrees(math.atan2(d[1], d[0])) % 360.0 if math.hypot(d[0], d[1]) > 0 else None
 
 
+def format_direction(d, digits: int = 3) -> str:
+    """A direction vector as "(x, y, z)" for text and legends."""
+    return "(" + ", ".join(f"{c:.{digits}f}" for c in d) + ")"
+
+
 def _lp_alpha(args) -> tuple[float, str, float | None, float]:
     from limit.analysis import analyse
     from limit.model.scene import load_scene

@@ -302,6 +302,8 @@ def direction_polar(out: dict, path, title="") -> None:
     a = np.asarray(out["alpha"], dtype=float)
     fig = plt.figure(figsize=(4.8, 4.8))
     ax = fig.add_subplot(projection="polar")
+    from limit.direction_sweep import format_direction
+
     az0 = out.get("azimuth0")
     if az0 is not None:  # seen from above, +x to the right
         ax.set_theta_offset(np.radians(az0))
@@ -310,7 +312,7 @@ def direction_polar(out: dict, path, title="") -> None:
             label="LP alpha")
     if out.get("min_theta") is not None:
         d = out.get("min_direction")
-        where = "" if d is None else " (" + ", ".join(f"{c:.3f}" for c in d) + ")"
+        where = "" if d is None else f" {format_direction(d)}"
         ax.plot([np.radians(out["min_theta"])], [out["min_alpha"]], "*", ms=14, color="crimson",
                 label=f"minimum {out['min_alpha']:.4g} at {out['min_theta']:g} deg{where}")
         nlp = ((out.get("min_nlp") or {}).get("nlp") or {})

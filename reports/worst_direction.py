@@ -9,6 +9,7 @@ from pathlib import Path
 def section(results: dict, by_name: dict, figs: Path) -> list[str]:
     """Markdown lines (headings, items, images ``![alt](figures/...)``); the figures are written
     to ``figs``. Empty when no scene has a sweep."""
+    from limit.direction_sweep import format_direction
     from limit.model.scene import load_scene
 
     from . import plots
@@ -39,7 +40,7 @@ def section(results: dict, by_name: dict, figs: Path) -> list[str]:
                 + f"; along the scene's own direction (0 deg) LP alpha {along:.4g}; minimum LP alpha "
                 f"{res['min_alpha']:.4g} at {res['min_theta']:g} deg (counter-clockwise seen from above"
                 + ("" if res.get("min_direction") is None else
-                   ", live direction (" + ", ".join(f"{c:.3f}" for c in res["min_direction"]) + ")")
+                   f", live direction {format_direction(res['min_direction'])}")
                 + f"), {fric}; "
                 f"{res['time_s']:.1f} s.", "", f"![worst load direction of {name}](figures/{polar.name})"]
         mech = figs / f"{name}-sweep-mechanism.png"

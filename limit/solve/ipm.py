@@ -241,7 +241,8 @@ class _Newton:
         best = None
         for _ in range(REFINE):
             dx, da, ds, dy, dz = dv
-            e = (self.EhT @ dy + self.YhT @ dz + r1 + (0.0 if self.qx is None else self.qx * dx), float(self.f @ dy) + r2, self.Eh @ dx + self.f * da + r3,
+            e0 = self.EhT @ dy + self.YhT @ dz + r1 + (0.0 if self.qx is None else self.qx * dx)
+            e = (e0, float(self.f @ dy) + r2, self.Eh @ dx + self.f * da + r3,
                  self.Yh @ dx + ds + r4, self.z * ds + self.s * dz + r5)
             err = max(np.abs(np.atleast_1d(v)).max(initial=0.0) for v in e)
             if err <= REFINE_ABS or (best is not None and err >= 0.5 * best):

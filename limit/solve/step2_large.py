@@ -73,6 +73,7 @@ OMEGA_LARGE = 0.5
 #: 0.05; Anderson acceleration of N* with a memory of 5 (Walker & Ni 2011) stalled at 0.12; a
 #: relaxation per friction row, halved where its residual changed sign, was no better than one)
 OMEGA_MIN = 0.125
+STALL = 8
 #: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension, from
 #: PROX_MIN_FREE free blocks on (None: none). Measured in one session (2026-11-26, a machine on
 #: which one LP of 10,050 blocks took 20.6 s, 8 s before), the whole route, both starts, 600 s
@@ -83,9 +84,13 @@ OMEGA_MIN = 0.125
 #: threshold. Weights 0.1 and 1 stalled at 10,050 blocks; at 1,008, 0.1 took 10 LPs against 16
 PROX = {2: 0.03, 3: None}
 PROX_MIN_FREE = 5000
-STALL = 8
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
+#: ... and, from the best iterate so far, when the residual has had no new low for PLATEAU LPs
+#: while that low is below SNAP_PLATEAU (and below every earlier snap's): at 10,050 2D blocks the
+#: residual sat at 1.6e-3 to 2.4e-3 for 10 LPs and no snap was ever tried; at 3,052 it settled at 2e-3
+SNAP_PLATEAU = 1e-2
+PLATEAU = 4
 #: (tried and not kept: a repair of a failed snap, rounds of an elastic statics LP, min alpha + M sum
 #: of the flowing faces' slacks, then the kinematics on the faces it closed, else the phase 1
 #: mechanism's support as the next guess; with the snap tried from a residual of 1e-2 or 2e-2. On
@@ -94,11 +99,6 @@ SNAP_COMP = 1e-3
 #: 45.8 s against about 28 s without it; at 10,050 blocks one round of Clarabel's elastic statics
 #: and phase 1 took over 130 s beside the other start, and the repair had not verified at the
 #: 500 s budget)
-#: ... and, from the best iterate so far, when the residual has had no new low for PLATEAU LPs
-#: while that low is below SNAP_PLATEAU (and below every earlier snap's): at 10,050 2D blocks the
-#: residual sat at 1.6e-3 to 2.4e-3 for 10 LPs and no snap was ever tried; at 3,052 it settled at 2e-3
-SNAP_PLATEAU = 1e-2
-PLATEAU = 4
 #: the interior point method's tolerance while the complementarity residual is above FAR_COMP
 #: (the iterate is far from a collapse state, so an exact LP is wasted; None: ipm's default 1e-9).
 #: Measured per start, 2D wall of 1,008 blocks: 20.2 / 18.3 / 20.3 s at 1e-9 throughout, 9.0 / 9.2 /
@@ -141,9 +141,13 @@ WARM_START_DIMS = (2,)
 #: lost the 0.525052 that the other reaches at about 200 s)
 
 
+def _free_blocks(P) -> int:
+    return P.n_dof // P.scene.ndof
+
+
 def _one_round(P) -> bool:
     """At least ONE_ROUND_MIN_FREE free blocks: one round of starts, relaxation OMEGA_LARGE."""
-    return P.n_dof // P.scene.ndof >= ONE_ROUND_MIN_FREE
+    return _free_blocks(P) >= ONE_ROUND_MIN_FREE
 
 
 def dead_load_start(P) -> np.ndarray | None:
@@ -291,7 +295,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
                              nstar0=nstar0, on_iterate=on_iterate,
                              lp_tol=lambda: LP_TOL_FAR if relax["best"] > FAR_COMP else LP_TOL_NEAR[P.scene.dim],
                              warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS,
-                             prox=PROX[P.scene.dim] if P.n_dof // P.scene.ndof >= PROX_MIN_FREE else None)
+                             prox=PROX[P.scene.dim] if _free_blocks(P) >= PROX_MIN_FREE else None)
     rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
     if found:
