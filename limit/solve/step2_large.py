@@ -19,7 +19,9 @@ scenes whose associative LP has no mechanism):
    snaps it to an exactly complementary point, which is checked in turn. A
    failed snap is retried only when the residual has fallen tenfold. A residual
    that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
-   its best iterate snapped too.
+   its best iterate snapped too. From ``SNAP_LARGE_MIN_FREE`` free blocks on, both
+   thresholds are lower (``SNAP_COMP_LARGE``, ``SNAP_PLATEAU_LARGE``): a failed snap
+   costs there several LPs.
    From ``PROX_MIN_FREE`` free blocks on (2D), each LP is the proximal QP of
    :func:`limit.solve.iterative_lp.solve` (``prox``, :data:`PROX`): the normal forces are
    pulled toward N*, so that the statics stop jumping across a degenerate optimal face.
@@ -116,6 +118,18 @@ LP_TOL_NEAR = {2: 1e-7, 3: None}
 #: 1,008 blocks)
 SNAP_RULES = ("support", "ratio")
 SNAP_FIRST = True
+#: ... and from SNAP_LARGE_MIN_FREE free blocks on: a snap is tried below a residual of
+#: SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first. A failed snap costs
+#: there 15-57 s of piece LPs against 5-7 s for one more LP. 10,050 2D blocks, the 0.5 mu start
+#: alone (2026-11-26, the slow machine of PROX): with the values above, snaps at residuals of
+#: 1.7e-3 and 3.9e-4 failed both rules and one at 3.6e-5 failed "support" (114 s in all) before
+#: "ratio" verified 0.335865, at 473 s from the start; with these, the same LPs and one snap,
+#: at 7.2e-5, verified the same alpha at 367 s. The residual is a sum over the faces, and the
+#: piece LP there had 1,574-1,961 flowing faces (at 3,052 blocks snaps at 1e-3 verify)
+SNAP_LARGE_MIN_FREE = 5000
+SNAP_COMP_LARGE = 1e-4
+SNAP_PLATEAU_LARGE = 1e-3
+SNAP_RULES_LARGE = ("ratio", "support")
 #: LP backends of the snap's piece LPs, tried in turn until one gives a point that passes the
 #: check: at 3,052 blocks HiGHS failed both piece LPs ("Not Set", 25-35 s each) where Clarabel's
 #: interior point solved and verified the support rule's in 1.2 s. When a backend proves every
@@ -148,6 +162,13 @@ def _free_blocks(P) -> int:
 def _one_round(P) -> bool:
     """At least ONE_ROUND_MIN_FREE free blocks: one round of starts, relaxation OMEGA_LARGE."""
     return _free_blocks(P) >= ONE_ROUND_MIN_FREE
+
+
+def _snap_settings(P) -> tuple[float, float, tuple]:
+    """(residual below which to snap, plateau below which to snap, flowing-face rules) for P's size."""
+    if _free_blocks(P) >= SNAP_LARGE_MIN_FREE:
+        return SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, SNAP_RULES_LARGE
+    return SNAP_COMP, SNAP_PLATEAU, SNAP_RULES
 
 
 def dead_load_start(P) -> np.ndarray | None:
@@ -242,7 +263,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     found: dict = {}
     snaps = [0]
     stalled: list = []
-    retry_below = [SNAP_COMP]
+    snap_comp, snap_plateau, rules = _snap_settings(P)
+    retry_below = [snap_comp]
     snapped_at = [np.inf]  # the lowest residual a snap was tried at
     relax = {"omega": min(OMEGA[P.scene.dim], OMEGA_LARGE) if _one_round(P) else OMEGA[P.scene.dim], "best": np.inf,
              "best_it": 0, "z": None}
@@ -260,11 +282,11 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
                 return zp, why
 
             zf, ok, _, _, note = nlp.finish(N, z, alpha_ref, bk, polisher=polisher, unpolished=False,
-                                            rules=SNAP_RULES, first=SNAP_FIRST)
+                                            rules=rules, first=SNAP_FIRST)
             if ok:
                 found.update(z=zf, how=f"{note}, {bk}", it=it)
                 return True
-            if len(set(proven)) == len(SNAP_RULES):  # 3,052 blocks: HiGHS took 43 s to agree
+            if len(set(proven)) == len(rules):  # 3,052 blocks: HiGHS took 43 s to agree
                 break
         return False
 
@@ -277,7 +299,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
         comp = res["complementarity"]
         if comp < relax["best"]:
             relax.update(best=comp, best_it=it, z=z)
-        elif (it - relax["best_it"] == PLATEAU and relax["best"] < min(SNAP_PLATEAU, snapped_at[0])
+        elif (it - relax["best_it"] == PLATEAU and relax["best"] < min(snap_plateau, snapped_at[0])
               and try_snap(relax["z"], relax["best"], relax["best_it"])):
             return True
         if it - relax["best_it"] >= STALL and relax["omega"] > OMEGA_MIN:
