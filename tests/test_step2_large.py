@@ -214,7 +214,7 @@ def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monke
 
 def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(monkeypatch):
     """The snap settings of large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first; used
-    from SNAP_LARGE_MIN_FREE free blocks on) forced onto the wall of the test above: the snaps
+    from VERY_LARGE_MIN_FREE free blocks on) forced onto the wall of the test above: the snaps
     ask for the large walls' rules, every verified start is a collapse state (never below the
     MILP's global minimum), and the best one reaches it."""
     from limit.solve import milp
@@ -223,7 +223,7 @@ def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(m
     seen = []
     real = nlp.finish
     monkeypatch.setattr(nlp, "finish", lambda *a, **k: seen.append(k.get("rules")) or real(*a, **k))
-    monkeypatch.setattr(step2_large, "SNAP_LARGE_MIN_FREE", 1)
+    monkeypatch.setattr(step2_large, "VERY_LARGE_MIN_FREE", 1)
     big = step2_large.solve(P, sol, workers=1)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)
     assert seen and all(r == ("ratio", "support") for r in seen)

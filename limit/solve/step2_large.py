@@ -19,7 +19,7 @@ scenes whose associative LP has no mechanism):
    snaps it to an exactly complementary point, which is checked in turn. A
    failed snap is retried only when the residual has fallen tenfold. A residual
    that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
-   its best iterate snapped too. From ``SNAP_LARGE_MIN_FREE`` free blocks on, both
+   its best iterate snapped too. From ``VERY_LARGE_MIN_FREE`` free blocks on, both
    thresholds are lower (``SNAP_COMP_LARGE``, ``SNAP_PLATEAU_LARGE``): a failed snap
    costs there several LPs.
    From ``PROX_MIN_FREE`` free blocks on (2D), each LP is the proximal QP of
@@ -27,7 +27,8 @@ scenes whose associative LP has no mechanism):
    pulled toward N*, so that the statics stop jumping across a degenerate optimal face.
 3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
    0.25 mu), one per core at once, each solving its own reduced-friction LP; from
-   ``ONE_ROUND_MIN_FREE`` free blocks on, only as many as there are cores. The
+   ``ONE_ROUND_MIN_FREE`` free blocks on, only as many as there are cores (from
+   ``VERY_LARGE_MIN_FREE`` on, at 0.5 mu and 0.4 mu: :data:`START_FACTORS_LARGE`). The
    lowest verified alpha is kept. Each verified alpha is a
    non-associative collapse state: an upper bound of the global frictional
    minimum, not the minimum itself.
@@ -48,7 +49,9 @@ the LPs near a collapse state were solved to 1e-7 in 2D, :data:`LP_TOL_NEAR`; be
 :data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s: 133 LPs of
 about 4.6 s). On a machine 2.5 times slower (2026-11-26: 20.6 s for the first LP, 8 s before),
 neither start verified within 600 s, and with the proximal LPs (:data:`PROX`) the 0.5 mu start
-verified 0.335865 at 457 s. 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
+verified 0.335865 at 457 s; on that machine with :data:`VERY_LARGE_MIN_FREE`'s snap thresholds and starts,
+both starts verified 0.335865 and the route took 441 s (the 0.5 mu start 353 s, 41 LPs; 0.4 mu
+419 s, 48 LPs; with the LP's start instead of 0.4 mu it ran to the 600 s budget). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
 start, 112-130 s), both verified in 204 s (none in 600 s before the snap took Clarabel's
 AlmostSolved).
@@ -118,7 +121,7 @@ LP_TOL_NEAR = {2: 1e-7, 3: None}
 #: 1,008 blocks)
 SNAP_RULES = ("support", "ratio")
 SNAP_FIRST = True
-#: ... and from SNAP_LARGE_MIN_FREE free blocks on: a snap is tried below a residual of
+#: ... and from VERY_LARGE_MIN_FREE free blocks on: a snap is tried below a residual of
 #: SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first. A failed snap costs
 #: there 15-57 s of piece LPs against 5-7 s for one more LP. 10,050 2D blocks, the 0.5 mu start
 #: alone (2026-11-26, the slow machine of PROX): with the values above, snaps at residuals of
@@ -126,7 +129,7 @@ SNAP_FIRST = True
 #: "ratio" verified 0.335865, at 473 s from the start; with these, the same LPs and one snap,
 #: at 7.2e-5, verified the same alpha at 367 s. The residual is a sum over the faces, and the
 #: piece LP there had 1,574-1,961 flowing faces (at 3,052 blocks snaps at 1e-3 verify)
-SNAP_LARGE_MIN_FREE = 5000
+VERY_LARGE_MIN_FREE = 5000
 SNAP_COMP_LARGE = 1e-4
 SNAP_PLATEAU_LARGE = 1e-3
 SNAP_RULES_LARGE = ("ratio", "support")
@@ -139,6 +142,12 @@ SNAP_BACKENDS = ("clarabel", "highs")
 MAX_ITER = 100
 #: friction factors of the starts (1 = the associative LP itself)
 START_FACTORS = (1.0, 0.5, 0.25)
+#: ... and from VERY_LARGE_MIN_FREE free blocks on. 10,050 2D blocks, one start alone each, with the
+#: snap settings of VERY_LARGE_MIN_FREE (2026-11-26, the slow machine of PROX): 0.5 verified 0.335865
+#: at 367 s (41 LPs), 0.4 the same at 427 s (48 LPs); 0.25 and 0.6 stalled at residuals of
+#: 4.7e-3 and 1.1e-2. The associative LP's own start never verified there in four runs (stalled
+#: at 8.4e-3 and 9.3e-3, or 600 s spent): beside 0.5 it held its core to the end of the budget
+START_FACTORS_LARGE = (0.5, 0.4)
 #: from this many free blocks on, only as many starts as there are workers (the first factors):
 #: a start that waits for a core never gets one within the budget (10,050 blocks, 2 cores: the
 #: third start did not begin in 600 s); at 3,052 blocks all three starts verified the same alpha
@@ -166,7 +175,7 @@ def _one_round(P) -> bool:
 
 def _snap_settings(P) -> tuple[float, float, tuple]:
     """(residual below which to snap, plateau below which to snap, flowing-face rules) for P's size."""
-    if _free_blocks(P) >= SNAP_LARGE_MIN_FREE:
+    if _free_blocks(P) >= VERY_LARGE_MIN_FREE:
         return SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, SNAP_RULES_LARGE
     return SNAP_COMP, SNAP_PLATEAU, SNAP_RULES
 
@@ -363,7 +372,7 @@ def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers) -> list | None:
         return None
 
 
-def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS, workers: int | None = None) -> dict:
+def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: int | None = None) -> dict:
     """The large-scale route of step 2: every start run (until the budget is spent), the
     lowest verified alpha kept. ``workers``: processes for the starts (default: one per core,
     at most one per start; 1 runs them one after another). Returns {"ok", "alpha", "z", "N",
@@ -376,6 +385,8 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=START_FACTORS, wo
     optimal = lp_sol is not None and lp_sol.status == "optimal"
     alpha_ref = lp_sol.alpha if optimal else np.inf
     cores = workers or os.cpu_count() or 1
+    if factors is None:
+        factors = START_FACTORS_LARGE if _free_blocks(P) >= VERY_LARGE_MIN_FREE else START_FACTORS
     if optimal:  # (label, friction factor): each start's LP is solved by the start itself
         if _one_round(P):
             factors = tuple(factors)[:max(1, cores)]
