@@ -210,24 +210,24 @@ class _Newton:
 
     def __init__(self, Eh, EhT, Yh, YhT, f, red, Hinv, s, z, verbose=False, q=None):
         self.Eh, self.EhT, self.Yh, self.YhT, self.f = Eh, EhT, Yh, YhT, f
-        self.qx = q  # proximal weights (n_x,) or None: the x row is q dx + Eh.T dy + Yh.T dz = -r1
+        self.prox = q  # proximal weights (n_x,) or None: the x row is q dx + Eh.T dy + Yh.T dz = -r1
         self.red, self.Hinv, self.s, self.z = red, Hinv, s, z
         red.factor(Hinv, verbose)
-        self.q = None  # N^-1 fL, solved with the first right-hand side
-        self.fq = 1.0
+        self.nf = None  # N^-1 fL, solved with the first right-hand side
+        self.fnf = 1.0
 
     def solve(self, r1, r2, r3, r4, r5):
         """One Newton step for the residuals r1..r5 (unrefined)."""
         Eh, EhT, Yh, f, s, z = self.Eh, self.EhT, self.Yh, self.f, self.s, self.z
         g = -r1 - self.YhT @ ((z * r4 - r5) / s)
         t = self.Hinv @ g
-        if self.q is None:  # the live-load column's solve rides with the first one
-            p, self.q = self.red.solve(np.column_stack([Eh @ t + r3, f])).T
-            self.fq = float(f @ self.q)
+        if self.nf is None:  # the live-load column's solve rides with the first one
+            p, self.nf = self.red.solve(np.column_stack([Eh @ t + r3, f])).T
+            self.fnf = float(f @ self.nf)
         else:
             p = self.red.solve(Eh @ t + r3)
-        da = (-r2 - float(f @ p)) / self.fq
-        dy = p + da * self.q
+        da = (-r2 - float(f @ p)) / self.fnf
+        dy = p + da * self.nf
         dx = self.Hinv @ (g - EhT @ dy)
         ds = -(Yh @ dx) - r4
         dz = (-r5 - z * ds) / s
@@ -241,7 +241,7 @@ class _Newton:
         best = None
         for _ in range(REFINE):
             dx, da, ds, dy, dz = dv
-            e0 = self.EhT @ dy + self.YhT @ dz + r1 + (0.0 if self.qx is None else self.qx * dx)
+            e0 = self.EhT @ dy + self.YhT @ dz + r1 + (0.0 if self.prox is None else self.prox * dx)
             e = (e0, float(self.f @ dy) + r2, self.Eh @ dx + self.f * da + r3,
                  self.Yh @ dx + ds + r4, self.z * ds + self.s * dz + r5)
             err = max(np.abs(np.atleast_1d(v)).max(initial=0.0) for v in e)
