@@ -72,6 +72,11 @@ def _parser() -> argparse.ArgumentParser:
     pc.add_argument("--H", type=float, default=None, help="building height (m), with Z > 0")
     pc.add_argument("--N", type=int, default=None, help="storeys, with Z > 0")
     pc.add_argument("--T1", type=float, default=None, help="building's first period (s), with Z > 0")
+    pc.add_argument("--xi1", type=float, default=0.05,
+                    help="building's first-mode damping ratio, a fraction (default 0.05; 0.10-0.20 for a masonry "
+                         "building at the ultimate state): the floor spectrum of the nonlinear check above ground")
+    pc.add_argument("--xi-mech", type=float, default=0.08,
+                    help="mechanism's damping ratio at SLV, a fraction (default 0.08): nonlinear check above ground")
     pc.add_argument("--json", metavar="OUT.json", help="write the assessment as JSON")
     pw = sub.add_parser("sweep", help="3D: alpha over the horizontal directions of the live load, its minimum")
     pw.add_argument("scene")
@@ -99,9 +104,10 @@ def cmd_check(args) -> int:
     if args.ag is not None:
         try:
             demand = Demand(ag_g=args.ag, S=args.S, F0=args.F0, TB=args.TB, TC=args.TC, TD=args.TD, q=args.q,
-                            Z=args.Z, H=args.H, N=args.N, T1=args.T1)
+                            Z=args.Z, H=args.H, N=args.N, T1=args.T1, xi1=args.xi1, xi_mech=args.xi_mech)
         except ValueError as exc:
-            raise SceneError(str(exc).replace("demand.ag_g", "--ag").replace("demand.", "--")) from None
+            raise SceneError(str(exc).replace("demand.ag_g", "--ag").replace("demand.xi_mech", "--xi-mech")
+                             .replace("demand.", "--")) from None
     scene = load_scene(args.scene, strict=args.strict)
     try:
         own_demand = demand is None and args.fc is None  # the scene's demand: its check is made by analyse

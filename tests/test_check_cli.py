@@ -98,17 +98,32 @@ def test_check_follows_the_mechanism_once_with_either_demand(tmp_path, monkeypat
 def test_a_bad_demand_in_a_scene_is_named(tmp_path, capsys):
     data = B.single_block(2, 0.3, 1.0, mu=0.8)
     for demand, key in (({"ag_g": 0.2, "TB": 0.6}, "TB < TC < TD"), ({"ag_g": 0.2, "Z": 3.0}, "above ground"),
-                        ({"S": 1.2}, "ag_g"), ({"ag_g": -0.2}, "ag_g"), ({"ag_g": 0.2, "fc": 0.5}, "fc")):
+                        ({"S": 1.2}, "ag_g"), ({"ag_g": -0.2}, "ag_g"), ({"ag_g": 0.2, "fc": 0.5}, "fc"),
+                        ({"ag_g": 0.2, "xi1": 5.0}, "xi1")):
         assert main(["solve", _write(tmp_path, dict(data, demand=demand))]) == 2
         assert key in capsys.readouterr().err
 
 
-def test_the_nonlinear_check_above_ground_says_why_it_is_not_made(tmp_path):
-    data = dict(B.single_block(2, 0.3, 1.0, mu=0.8), demand={"ag_g": 0.2, "Z": 3.0, "H": 9.0, "N": 3, "T1": 0.3})
+def test_the_nonlinear_check_above_ground_uses_the_floor_spectrum(tmp_path):
+    """A scene's demand above ground (with the building's damping xi1 given) gives the nonlinear
+    check of the 2019 Circolare: du* against the floor displacement spectrum at T_SLV."""
+    from limit.model.seismic_demand import Demand
+
+    dem = {"ag_g": 0.2, "Z": 3.0, "H": 9.0, "N": 3, "T1": 0.3, "xi1": 0.1}
+    data = dict(B.single_block(2, 0.3, 1.0, mu=0.8), demand=dem)
     out = tmp_path / "r.json"
     assert main(["solve", _write(tmp_path, data), "--json", str(out)]) == 0
     c = json.loads(out.read_text())["verdict"]["check"]
-    assert c["nonlinear"] is None and "above ground" in c["nonlinear_reason"]
+    nl = c["nonlinear"]
+    assert nl is not None and nl["rule"] == "SDeZ(T_SLV)" and c["nonlinear_reason"] == ""
+    assert nl["demand"] == pytest.approx(Demand(**dem).SDeZ(nl["period"]))
+    assert nl["capacity"] == pytest.approx(0.06, rel=1e-6)  # 0.4 d0*, d0* = b/2 (e* = 1)
+
+
+def test_a_damping_ratio_in_percent_is_refused(tmp_path, capsys):
+    f = _write(tmp_path, B.single_block(2, 0.3, 1.0, mu=0.8))
+    assert main(["check", f, "--ag", "0.2", "--Z", "3", "--H", "9", "--N", "3", "--T1", "0.3", "--xi1", "5"]) == 2
+    assert "--xi1" in capsys.readouterr().err
 
 
 def test_check_without_options_uses_the_scene_s_own_demand(tmp_path, capsys):

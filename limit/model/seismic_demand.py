@@ -1,7 +1,7 @@
 """The seismic demand on a local mechanism and the code check (NTC 2018 section 3.2.3.2.1
 for the elastic spectrum; the local-mechanism checks of Circolare 617/2009 C8A.4.9
-(linear) and C8A.4.10 (nonlinear), which the 2019 Circolare's C8.7.1 carries over for
-mechanisms at ground level).
+(linear) and C8A.4.10 (nonlinear, at ground level); above ground, the nonlinear check of
+the 2019 Circolare, C8.7.1.2.1.8 with the floor spectrum of C7.2.3).
 
 Elastic horizontal acceleration spectrum (g units times g; T in s), with eta = 1
 (5 % damping) unless given:
@@ -9,7 +9,8 @@ Elastic horizontal acceleration spectrum (g units times g; T in s), with eta = 1
   TB <= T < TC  Se = ag S eta F0
   TC <= T < TD  Se = ag S eta F0 TC / T
   TD <= T       Se = ag S eta F0 TC TD / T^2
-and the displacement spectrum SDe(T) = Se(T) (T / 2 pi)^2.
+and the displacement spectrum SDe(T) = Se(T) (T / 2 pi)^2. eta(xi) = sqrt(10 / (5 + xi%))
+>= 0.55 (NTC 2018 eq. 3.2.4, xi in percent).
 
 Checks of a mechanism with spectral activation acceleration a0* and ultimate spectral
 displacement du* (secant period Ts):
@@ -17,7 +18,28 @@ displacement du* (secant period Ts):
 * linear, mechanism whose base is at height Z of a building of height H with N storeys
   and first period T1:  a0* >= max(ag S / q, Se(T1) psi(Z) gamma / q), psi = Z / H,
   gamma = 3 N / (2 N + 1);
-* nonlinear, at ground level:  du* >= SDe(Ts).
+* nonlinear, at ground level:  du* >= SDe(Ts);
+* nonlinear, above ground (Circolare 2019 [C8.7.1.10], [C8.7.1.12]): du* >= SDeZ(T_SLV) with
+  T_SLV = 1.68 pi sqrt(du* / a*(du*)) (du* = 0.4 d0*, the SLV displacement of C8.7.1.2.1.6)
+  and SDeZ(T) = SeZ(T) T^2 / 4 pi^2, kept at least SeZ(T1) (b T1)^2 / 4 pi^2 beyond b T1.
+  SeZ is the floor spectrum of the first mode ([C7.2.5]-[C7.2.10]), with the building's
+  damping xi1 and the mechanism's xi (8 % at SLV by default, C8.7.1.2.1.8):
+    aZ = Se(T1, xi1) gamma psi(Z) sqrt(1 + 0.0004 xi1%^2)      [C7.2.7], [C7.2.10]
+    A = 1.1 xi1^-0.5 eta(xi)                                     [C7.2.6], [C7.2.9]
+    T < a T1:        SeZ = A aZ / (1 + (A - 1) (1 - T / (a T1))^1.6)
+    a T1 <= T < b T1: SeZ = A aZ
+    T >= b T1:       SeZ = A aZ / (1 + (A - 1) (T / (b T1) - 1)^1.2)
+  and SeZ >= Se(T, xi) for T > T1 [C7.2.5]; a = 0.8, b = 1.1.
+  The unit of xi1: the Circolare's text (a transcription, github.com/claudiopagani/
+  structural-codes, corpus/assets/circ2019/7.2.json; the official PDF was not available)
+  calls xi_k "in percent". In the power 1.1 xi1^-0.5 that gives A = 0.49 at 5 %, a floor
+  spectrum below the floor's own peak acceleration aZ (its value at T = 0), which is
+  physically wrong; with xi1 as a fraction A = 4.92 at 5 %, the a_p = 5 of the same
+  section's simplified floor spectrum [C7.2.11] (Table C7.2.II, T1 < 0.5 s), the order of
+  the resonant amplification of a 5 %-damped oscillator on a floor. So xi1 enters the power as a fraction
+  (the larger, safe-side demand) and sqrt(1 + 0.0004 xi1^2) in percent (it is the
+  pseudo-to-absolute acceleration factor sqrt(1 + 4 xi^2)). The ground-level check keeps
+  2009's Ts: the 2019 Circolare evaluates SDe at T_SLV there too (not applied here).
 q = 2 is the code's behaviour factor for these mechanisms. Ratios capacity / demand >= 1
 pass.
 """
@@ -28,18 +50,16 @@ from dataclasses import dataclass
 
 G = 9.81
 
-#: why the nonlinear check of a mechanism above ground is not made. The 2019 Circolare takes its
-#: displacement demand ([C8.7.1.12], section C8.7.1.2.1.8) from the floor spectrum of C7.2.3
-#: ([C7.2.5]-[C7.2.9]), with its own secant periods (T_SLV = 1.68 pi sqrt(d/a), [C8.7.1.10]) rather
-#: than the ground-level Ts used here. The only copy found offline (a transcription,
-#: github.com/claudiopagani/structural-codes, corpus/assets/circ2019/7.2.json, not the official
-#: PDF) gives the damping xi_k of the building's mode "in percentuale", which makes the resonant
-#: amplification 1.1 xi_k^-0.5 eta of [C7.2.6] smaller than 1 (0.43 at 5 %): a floor spectrum
-#: below the floor's own acceleration. Not implemented until read in the official text.
-ABOVE_GROUND_NONLINEAR = ("the mechanism is above ground (Z > 0): its displacement demand (the floor spectrum of the "
-                          "2019 Circolare, C7.2.3 and C8.7.1.2.1.8) is not implemented: the only copy found gives "
-                          "the building's damping in percent, which makes the floor spectrum's resonant "
-                          "amplification smaller than 1; it needs the official text")
+#: the floor spectrum's plateau bounds, as fractions of T1 ([C7.2.6]: "may be taken as")
+FLOOR_A, FLOOR_B = 0.8, 1.1
+#: T_SLV = SLV_PERIOD pi sqrt(d_SLV / a(d_SLV)) (Circolare 2019 [C8.7.1.10])
+SLV_PERIOD = 1.68
+
+
+def eta_of(xi: float) -> float:
+    """Damping correction of the elastic spectrum for a damping ratio ``xi`` (fraction):
+    sqrt(10 / (5 + 100 xi)) >= 0.55 (NTC 2018 eq. 3.2.4)."""
+    return max(math.sqrt(10.0 / (5.0 + 100.0 * xi)), 0.55)
 
 
 @dataclass(frozen=True)
@@ -49,7 +69,10 @@ class Demand:
     ``TB``, ``TC``, ``TD`` (s): corner periods; ``q``: behaviour factor (2 for local
     mechanisms); ``eta``: damping correction; ``Z``, ``H`` (m), ``N``, ``T1`` (s): the base
     height of the mechanism, the building's height, storeys and first period (Z = 0: at
-    ground level)."""
+    ground level); ``xi1``: the building's first-mode equivalent damping (fraction; 0.05
+    elastic, 0.10-0.20 for a masonry building at the ultimate state, Circolare 2019
+    C8.7.1.2.1.4); ``xi_mech``: the mechanism's damping at SLV (fraction, 0.08 by default,
+    C8.7.1.2.1.8). ``xi1`` and ``xi_mech`` enter only the nonlinear check above ground."""
 
     ag_g: float
     S: float = 1.0
@@ -63,9 +86,11 @@ class Demand:
     H: float | None = None
     N: int | None = None
     T1: float | None = None
+    xi1: float = 0.05
+    xi_mech: float = 0.08
 
     def __post_init__(self):
-        for k in ("ag_g", "S", "F0", "TB", "TC", "TD", "q", "eta"):
+        for k in ("ag_g", "S", "F0", "TB", "TC", "TD", "q", "eta", "xi1", "xi_mech"):
             v = getattr(self, k)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"demand.{k}: must be a positive number, got {v!r}")
@@ -75,12 +100,17 @@ class Demand:
             raise ValueError(f"demand.Z: must be >= 0, got {self.Z!r}")
         if self.Z > 0 and not (self.H and self.N and self.T1 and self.H >= self.Z):
             raise ValueError("demand: a mechanism above ground (Z > 0) needs H >= Z, N and T1")
+        for k in ("xi1", "xi_mech"):
+            if getattr(self, k) >= 1.0:
+                raise ValueError(f"demand.{k}: a damping ratio as a fraction (0.05 for 5 %), got {getattr(self, k)!r}")
 
-    def Se(self, T: float) -> float:
-        """Elastic spectral acceleration (m/s^2) at period T (s)."""
-        a = self.ag_g * G * self.S * self.eta * self.F0
+    def Se(self, T: float, eta: float | None = None) -> float:
+        """Elastic spectral acceleration (m/s^2) at period T (s), with damping correction
+        ``eta`` (default: the demand's)."""
+        eta = self.eta if eta is None else eta
+        a = self.ag_g * G * self.S * eta * self.F0
         if T < self.TB:
-            return a * (T / self.TB + (1.0 - T / self.TB) / (self.eta * self.F0))
+            return a * (T / self.TB + (1.0 - T / self.TB) / (eta * self.F0))
         if T < self.TC:
             return a
         if T < self.TD:
@@ -91,11 +121,48 @@ class Demand:
         """Elastic spectral displacement (m) at period T (s)."""
         return self.Se(T) * (T / (2 * math.pi)) ** 2
 
+    def floor_peak(self) -> float:
+        """aZ (m/s^2): the floor's peak acceleration at the mechanism's base from the first
+        mode, Se(T1, xi1) gamma psi(Z) sqrt(1 + 0.0004 xi1%^2) ([C7.2.7], [C7.2.10])."""
+        gamma, psi = 3.0 * self.N / (2.0 * self.N + 1.0), self.Z / self.H
+        return self.Se(self.T1, eta_of(self.xi1)) * gamma * psi * math.sqrt(1.0 + 0.0004 * (100.0 * self.xi1) ** 2)
 
-def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: float | None = None) -> dict:
+    def floor_amplification(self) -> float:
+        """A = 1.1 xi1^-0.5 eta(xi_mech), xi1 as a fraction ([C7.2.6]; the module docstring says why)."""
+        return 1.1 * self.xi1 ** -0.5 * eta_of(self.xi_mech)
+
+    def SeZ(self, T: float) -> float:
+        """The floor spectrum (m/s^2) at the mechanism's base for period T (s), first mode
+        ([C7.2.5], [C7.2.6]; at least the ground's Se(T, xi_mech) beyond T1)."""
+        A, aZ, T1 = self.floor_amplification(), self.floor_peak(), self.T1
+        if T < FLOOR_A * T1:
+            s = A * aZ / (1.0 + (A - 1.0) * (1.0 - T / (FLOOR_A * T1)) ** 1.6)
+        elif T < FLOOR_B * T1:
+            s = A * aZ
+        else:
+            s = A * aZ / (1.0 + (A - 1.0) * (T / (FLOOR_B * T1) - 1.0) ** 1.2)
+        return max(s, self.Se(T, eta_of(self.xi_mech))) if T > T1 else s
+
+    def SDeZ(self, T: float) -> float:
+        """The floor displacement spectrum (m): SeZ(T) T^2 / 4 pi^2, at least SeZ(T1) (b T1)^2 /
+        4 pi^2 beyond b T1 (Circolare 2019 [C8.7.1.12])."""
+        d = self.SeZ(T) * (T / (2 * math.pi)) ** 2
+        if T > FLOOR_B * self.T1:
+            d = max(d, self.SeZ(self.T1) * (FLOOR_B * self.T1 / (2 * math.pi)) ** 2)
+        return d
+
+
+def slv_period(du_star: float, au_star: float) -> float:
+    """T_SLV (s) = 1.68 pi sqrt(du* / a*(du*)) (Circolare 2019 [C8.7.1.10]; m, m/s^2)."""
+    return SLV_PERIOD * math.pi * math.sqrt(du_star / au_star)
+
+
+def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: float | None = None,
+          au_star: float | None = None) -> dict:
     """The linear (and, with du* and Ts, the nonlinear) check: {"linear": {"demand" m/s^2,
-    "capacity", "ratio", "pass"}, "nonlinear": {...} or None (above ground, or without a
-    capacity curve), "nonlinear_reason" (why None, else "")}."""
+    "capacity", "ratio", "pass"}, "nonlinear": {"demand" m, "capacity" m, "ratio", "pass",
+    "period" s, "rule"} or None (without a capacity curve, or above ground without a*(du*)
+    ``au_star`` > 0, m/s^2), "nonlinear_reason" (why None, else "")}."""
     d = demand
     need = d.ag_g * G * d.S / d.q
     if d.Z > 0:
@@ -105,9 +172,15 @@ def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: floa
     nonlin, why = None, ""
     if du_star is None or Ts is None:
         why = "no capacity curve"
+    elif d.Z > 0 and not (au_star and au_star > 0):
+        why = "the mechanism is above ground and its capacity curve has no acceleration at du* (for T_SLV)"
     elif d.Z > 0:
-        why = ABOVE_GROUND_NONLINEAR
+        T = slv_period(du_star, au_star)
+        dd = d.SDeZ(T)
+        nonlin = {"demand": dd, "capacity": du_star, "ratio": du_star / dd, "pass": du_star >= dd, "period": T,
+                  "rule": "SDeZ(T_SLV)", "Ts": Ts}
     else:
         dd = d.SDe(Ts)
-        nonlin = {"demand": dd, "capacity": du_star, "ratio": du_star / dd, "pass": du_star >= dd, "Ts": Ts}
+        nonlin = {"demand": dd, "capacity": du_star, "ratio": du_star / dd, "pass": du_star >= dd, "period": Ts,
+                  "rule": "SDe(Ts)", "Ts": Ts}
     return {"linear": lin, "nonlinear": nonlin, "nonlinear_reason": why}

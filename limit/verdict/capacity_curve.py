@@ -216,7 +216,7 @@ def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=No
     displacement; body forces), "d0" (m, None
     when alpha stays > 0), "control" (block id),
     "spectral": {"d_star" m, "a_star" m/s^2, "d0_star", "du_star", "ds_star", "as_star",
-    "Ts" s, "e_star", "M_star"}, "alpha0" (the start's multiplier, by the same ratio)}.
+    "au_star" (a* at du*), "Ts" s, "e_star", "M_star"}, "alpha0" (the start's multiplier, by the same ratio)}.
     BLAS runs on one thread meanwhile (small dense factorisations, as in :func:`limit.analyse`;
     a 3D wall of 24 blocks took 28 s with two busy threads, 5.8 s with one)."""
     from threadpoolctl import threadpool_limits
@@ -295,6 +295,8 @@ def _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc) -> dict:
         du = 0.4 * d0s
         ds = 0.4 * du
         as_ = float(np.interp(ds, d * ratio, al)) * g / (lin["e_star"] * fc)
-        spec.update(d0_star=d0s, du_star=du, ds_star=ds, as_star=as_, Ts=2 * np.pi * np.sqrt(ds / as_) if as_ > 0 else None)
+        au = float(np.interp(du, d * ratio, al)) * g / (lin["e_star"] * fc)
+        spec.update(d0_star=d0s, du_star=du, ds_star=ds, as_star=as_, Ts=2 * np.pi * np.sqrt(ds / as_) if as_ > 0 else None,
+                    au_star=au)
     return {"d": d.tolist(), "alpha": al.tolist(), "rotation": rot, "d_work": dwork, "d0": d0, "control": scene.blocks[ctrl].id,
             "alpha0": a_start, "spectral": spec, "n_joint_equations": len(ch.rows)}

@@ -43,7 +43,7 @@ def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = N
     except ValueError as exc:
         why = str(exc)
     sp = (curve or {}).get("spectral") or {}
-    c = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts")) if demand is not None else None
+    c = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts"), sp.get("au_star")) if demand is not None else None
     return {"scene": scene.name, "step": step, "alpha0": alpha0, "linear": lin, "curve": curve,
             "curve_reason": why, "check": c, "demand": None if demand is None else vars(demand)}
 
@@ -78,7 +78,9 @@ def verdict_lines(a: dict) -> list[str]:
                    f"{li['ratio']:.3f}: " + ("PASS" if li["pass"] else "FAIL") + ".")
         nl = c.get("nonlinear")
         if nl:
-            out.append(f"Nonlinear check: du* = {nl['capacity'] * 1e3:.1f} mm against SDe(Ts) = "
+            rule = nl.get("rule", "SDe(Ts)")
+            where = (f" (the floor spectrum at Z, T_SLV = {nl['period']:.3f} s)" if rule == "SDeZ(T_SLV)" else "")
+            out.append(f"Nonlinear check: du* = {nl['capacity'] * 1e3:.1f} mm against {rule}{where} = "
                        f"{nl['demand'] * 1e3:.1f} mm, ratio {nl['ratio']:.3f}: " + ("PASS" if nl["pass"] else "FAIL") + ".")
         else:
             out.append(f"Nonlinear check: not made ({c.get('nonlinear_reason') or 'no capacity curve'}).")
