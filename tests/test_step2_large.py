@@ -193,40 +193,40 @@ def test_large_walls_warm_start_their_lps_in_2d_only(monkeypatch, dim, warm):
     assert seen == [warm]
 
 
-def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monkeypatch):
-    """The proximal iterative LP (PROX, used from PROX_MIN_FREE free blocks on) forced onto the
-    3-course wall of test_small_wall_agrees_with_the_global_minimum: every verified start is a
-    collapse state, so never below the MILP's global minimum, and the best one reaches it."""
-    from limit.solve import iterative_lp, milp
-
-    P, sol = _solved(B.running_bond_wall(3, 2, dim=2, L=0.4, H=0.3, mu=0.9))
-    seen = []
-    real = iterative_lp.solve
-    monkeypatch.setattr(iterative_lp, "solve", lambda *a, **k: seen.append(k.get("prox")) or real(*a, **k))
-    monkeypatch.setattr(step2_large, "PROX_MIN_FREE", 1)
-    big = step2_large.solve(P, sol, workers=1)
-    g = milp.global_minimum(P, sol.alpha, time_limit=300)
-    assert seen and all(p == step2_large.PROX[2] for p in seen)
-    assert g["status"] == "optimal" and big["ok"]
-    assert big["alpha_worst"] >= g["alpha"] - 1e-7
-    assert big["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
-
-
-def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(monkeypatch):
-    """The snap settings of large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first; used
-    from VERY_LARGE_MIN_FREE free blocks on) forced onto the wall of the test above: the snaps
-    ask for the large walls' rules, every verified start is a collapse state (never below the
-    MILP's global minimum), and the best one reaches it."""
+def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
+    """The route on the 3-course wall of test_small_wall_agrees_with_the_global_minimum with
+    step2_large's ``threshold`` forced down to 1 block, recording the ``kwarg`` of each call of
+    ``module.func``. Every verified start is a collapse state, so never below the MILP's global
+    minimum, and the best one reaches it. Returns (the recorded values, the route's result)."""
     from limit.solve import milp
 
     P, sol = _solved(B.running_bond_wall(3, 2, dim=2, L=0.4, H=0.3, mu=0.9))
     seen = []
-    real = nlp.finish
-    monkeypatch.setattr(nlp, "finish", lambda *a, **k: seen.append(k.get("rules")) or real(*a, **k))
-    monkeypatch.setattr(step2_large, "VERY_LARGE_MIN_FREE", 1)
+    real = getattr(module, func)
+    monkeypatch.setattr(module, func, lambda *a, **k: seen.append(k.get(kwarg)) or real(*a, **k))
+    monkeypatch.setattr(step2_large, threshold, 1)
     big = step2_large.solve(P, sol, workers=1)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)
-    assert seen and all(r == ("ratio", "support") for r in seen)
     assert g["status"] == "optimal" and big["ok"]
     assert big["alpha_worst"] >= g["alpha"] - 1e-7
     assert big["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
+    return seen, big
+
+
+def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monkeypatch):
+    """The proximal iterative LP (PROX, used from PROX_MIN_FREE free blocks on) forced onto a
+    small wall (:func:`_forced_on_a_small_wall`): every LP is proximal."""
+    from limit.solve import iterative_lp
+
+    seen, _ = _forced_on_a_small_wall(monkeypatch, "PROX_MIN_FREE", iterative_lp, "solve", "prox")
+    assert seen and all(p == step2_large.PROX[2] for p in seen)
+
+
+def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(monkeypatch):
+    """The settings of very large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first,
+    START_FACTORS_LARGE; from VERY_LARGE_MIN_FREE free blocks on) forced onto a small wall
+    (:func:`_forced_on_a_small_wall`): every snap asks for the large walls' rules, and the starts
+    are those at 0.5 mu and 0.4 mu."""
+    seen, big = _forced_on_a_small_wall(monkeypatch, "VERY_LARGE_MIN_FREE", nlp, "finish", "rules")
+    assert seen and all(r == ("ratio", "support") for r in seen)
+    assert [r["start"] for r in big["starts"]] == ["lp-mu*0.5", "lp-mu*0.4"]
