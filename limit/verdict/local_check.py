@@ -68,7 +68,8 @@ def verdict_lines(a: dict) -> list[str]:
     sp = (a.get("curve") or {}).get("spectral") or {}
     if sp.get("du_star") is not None:
         out.append(f"Capacity curve: d0* = {sp['d0_star'] * 1e3:.1f} mm, du* = {sp['du_star'] * 1e3:.1f} mm, "
-                   f"ds* = {sp['ds_star'] * 1e3:.1f} mm, as* = {sp['as_star']:.3f} m/s^2, Ts = {sp['Ts']:.3f} s.")
+                   f"ds* = {sp['ds_star'] * 1e3:.1f} mm, as* = {sp['as_star']:.3f} m/s^2, Ts = {sp['Ts']:.3f} s"
+                   + (f", a*(du*) = {sp['au_star']:.3f} m/s^2." if sp.get("au_star") is not None else "."))
     elif a.get("curve_reason"):
         out.append(f"No capacity curve: {a['curve_reason']}.")
     c = a.get("check")
