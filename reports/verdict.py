@@ -15,7 +15,10 @@ FORMULAS = ("Formulas: participating mass M* = (sum P_i dx_i)^2 / (g sum P_i dx_
             "displacement (2D and 3D rocking mechanisms) to alpha = 0 at d0, "
             "d* = d sum P_i dx_i^2 / (dx_k sum P_i dx_i), du* = 0.4 d0*, Ts = 2 pi sqrt(ds*/as*) at ds* = 0.4 du* "
             "(C8A.4.2, C8A.4.5-7); nonlinear check du* >= SDe(Ts) = Se(Ts) (Ts / 2 pi)^2 (C8A.4.10, at ground "
-            "level) with the elastic spectrum of NTC 2018 3.2.3.2.1. P_i: the blocks' weights; dx_i: their "
+            "level) with the elastic spectrum of NTC 2018 3.2.3.2.1; above ground du* >= SDeZ(T_SLV), the floor "
+            "displacement spectrum of the 2019 Circolare (C7.2.3 [C7.2.5]-[C7.2.10], first mode; [C8.7.1.12]) at "
+            "T_SLV = 1.68 pi sqrt(du* / a*(du*)) ([C8.7.1.10]), with the building's damping xi1 as a fraction in "
+            "1.1 xi1^-0.5 (limit/model/seismic_demand.py says why). P_i: the blocks' weights; dx_i: their "
             "centroids' horizontal virtual displacements in the mechanism of the limit analysis (frictional where "
             "it ran).")
 
@@ -51,13 +54,38 @@ def scene_lines(name: str, dim: int, v: dict) -> list[str]:
     return [f"**{name}** ({dim}D; {_demand_line(v['demand'], v['linear']['fc'])})."] + verdict_lines(v)
 
 
+#: the worked example's illustration of a mechanism above ground: the first 3D scene's demand with
+#: the mechanism's base at Z of a building (H m, N storeys, first period T1 s, damping xi1)
+ABOVE_GROUND = {"Z": 6.0, "H": 9.0, "N": 3, "T1": 0.3, "xi1": 0.1}
+
+
+def above_ground_lines(name: str, v: dict) -> list[str]:
+    """Markdown lines of the checks of a verdict ``v`` redone with its demand moved above
+    ground (:data:`ABOVE_GROUND`; the capacity is the same mechanism's)."""
+    from limit.model.seismic_demand import Demand, check
+
+    sp = (v.get("curve") or {}).get("spectral") or {}
+    d = Demand(**{**v["demand"], **ABOVE_GROUND})
+    c = check(d, v["linear"]["a0_star"], sp.get("du_star"), sp.get("Ts"), sp.get("au_star"))
+    lines = [s for s in verdict_lines({**v, "check": c}) if s.startswith(("Linear check", "Nonlinear check"))]
+    a = ABOVE_GROUND
+    return [f"**{name}, above ground** (illustrative: the same demand and mechanism with its base at Z = {a['Z']:g} m "
+            f"of a {a['H']:g} m, {a['N']}-storey building, T1 = {a['T1']:g} s, building damping xi1 = {a['xi1']:g}, "
+            f"mechanism damping {d.xi_mech:g})."] + lines
+
+
 def worked_example(results: dict, by_name: dict) -> list[str]:
-    """Markdown lines of the verdicts of the scenes stating a demand (empty without any)."""
-    out = []
+    """Markdown lines of the verdicts of the scenes stating a demand (empty without any); the
+    first 3D one also above ground (:func:`above_ground_lines`)."""
+    out, above = [], False
     for name in by_name:
         la = results.get((name, "la")) or {}
-        if la.get("verdict"):
-            out += [f"- {s}" for s in scene_lines(name, la.get("dim"), la["verdict"])] + [""]
+        v = la.get("verdict")
+        if v:
+            out += [f"- {s}" for s in scene_lines(name, la.get("dim"), v)] + [""]
+            if not above and la.get("dim") == 3 and v.get("status") == "done":
+                above = True
+                out += [f"- {s}" for s in above_ground_lines(name, v)] + [""]
     if not out:
         return []
     return ["## Engineering verdict: the code check of the local mechanism", "",

@@ -363,7 +363,9 @@ def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
     step, a0, mech = verdict.la_mechanism(results[("wall-out-of-plane-3d", "la")])
     q = linear(scene, mech, a0, 1.35)
     assert f"a0* = {q['a0_star']:.4f} m/s^2" in text and f"e* = {q['e_star']:.4f}" in text
-    assert text.count("Linear check") == 2 and text.count("Nonlinear check: du*") == 2  # 3D now too
+    # both scenes, and the 3D wall again with its base above ground (the 2019 floor spectrum)
+    assert text.count("Linear check") == 3 and text.count("Nonlinear check: du*") == 3
+    assert text.count("above ground** (illustrative") == 1 and "SDeZ(T_SLV) (the floor spectrum at Z" in text
     portal = load_scene(by_name["portal-2d"])
     kin = verdict.kinematic_curve(portal, results[("portal-2d", "la")])
     assert kin is not None and kin["alpha"][0] == pytest.approx(0.2, rel=1e-6) and kin["d0"] > 0
