@@ -19,7 +19,7 @@ scenes whose associative LP has no mechanism):
    snaps it to an exactly complementary point, which is checked in turn. A
    failed snap is retried only when the residual has fallen tenfold. A residual
    that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
-   its best iterate snapped too. From ``VERY_LARGE_MIN_FREE`` free blocks on, both
+   its best iterate snapped too. From ``VERY_LARGE_MIN_FREE`` free blocks on (2D), both
    thresholds are lower (``SNAP_COMP_LARGE``, ``SNAP_PLATEAU_LARGE``): a failed snap
    costs there several LPs.
    From ``PROX_MIN_FREE`` free blocks on (2D), each LP is the proximal QP of
@@ -28,7 +28,7 @@ scenes whose associative LP has no mechanism):
 3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
    0.25 mu), one per core at once, each solving its own reduced-friction LP; from
    ``ONE_ROUND_MIN_FREE`` free blocks on, only as many as there are cores (from
-   ``VERY_LARGE_MIN_FREE`` on, at 0.5 mu and 0.4 mu: :data:`START_FACTORS_LARGE`). The
+   ``VERY_LARGE_MIN_FREE`` on in 2D, at 0.5 mu and 0.4 mu: :data:`START_FACTORS_LARGE`). The
    lowest verified alpha is kept. Each verified alpha is a
    non-associative collapse state: an upper bound of the global frictional
    minimum, not the minimum itself.
@@ -130,6 +130,8 @@ SNAP_FIRST = True
 #: at 7.2e-5, verified the same alpha at 367 s. The residual is a sum over the faces, and the
 #: piece LP there had 1,574-1,961 flowing faces (at 3,052 blocks snaps at 1e-3 verify)
 VERY_LARGE_MIN_FREE = 5000
+#: ... in these dimensions (measured in 2D only; the 3D bench walls stop at 3,024 blocks)
+VERY_LARGE_DIMS = (2,)
 SNAP_COMP_LARGE = 1e-4
 SNAP_PLATEAU_LARGE = 1e-3
 SNAP_RULES_LARGE = ("ratio", "support")
@@ -173,9 +175,14 @@ def _one_round(P) -> bool:
     return _free_blocks(P) >= ONE_ROUND_MIN_FREE
 
 
+def _very_large(P) -> bool:
+    """At least VERY_LARGE_MIN_FREE free blocks, in a dimension of VERY_LARGE_DIMS."""
+    return _free_blocks(P) >= VERY_LARGE_MIN_FREE and P.scene.dim in VERY_LARGE_DIMS
+
+
 def _snap_settings(P) -> tuple[float, float, tuple]:
     """(residual below which to snap, plateau below which to snap, flowing-face rules) for P's size."""
-    if _free_blocks(P) >= VERY_LARGE_MIN_FREE:
+    if _very_large(P):
         return SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, SNAP_RULES_LARGE
     return SNAP_COMP, SNAP_PLATEAU, SNAP_RULES
 
@@ -386,7 +393,7 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     alpha_ref = lp_sol.alpha if optimal else np.inf
     cores = workers or os.cpu_count() or 1
     if factors is None:
-        factors = START_FACTORS_LARGE if _free_blocks(P) >= VERY_LARGE_MIN_FREE else START_FACTORS
+        factors = START_FACTORS_LARGE if _very_large(P) else START_FACTORS
     if optimal:  # (label, friction factor): each start's LP is solved by the start itself
         if _one_round(P):
             factors = tuple(factors)[:max(1, cores)]
