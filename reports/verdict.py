@@ -3,7 +3,7 @@ scene that states a seismic demand (its "demand" key; the check itself is the LA
 "verdict", limit.verdict.local_check), with the formulas and their sources."""
 from __future__ import annotations
 
-from limit.verdict.local_check import step_mechanism, verdict_lines
+from limit.verdict.local_check import check_lines, step_mechanism, verdict_lines
 
 #: (step, alpha, mechanism) of an LA result: one home, in the library
 la_mechanism = step_mechanism
@@ -67,7 +67,7 @@ def above_ground_lines(name: str, v: dict) -> list[str]:
     sp = (v.get("curve") or {}).get("spectral") or {}
     d = Demand(**{**v["demand"], **ABOVE_GROUND})
     c = check(d, v["linear"]["a0_star"], sp.get("du_star"), sp.get("Ts"), sp.get("au_star"))
-    lines = [s for s in verdict_lines({**v, "check": c}) if s.startswith(("Linear check", "Nonlinear check"))]
+    lines = check_lines(c)
     a = ABOVE_GROUND
     return [f"**{name}, above ground** (illustrative: the same demand and mechanism with its base at Z = {a['Z']:g} m "
             f"of a {a['H']:g} m, {a['N']}-storey building, T1 = {a['T1']:g} s, building damping xi1 = {a['xi1']:g}, "

@@ -72,19 +72,24 @@ def verdict_lines(a: dict) -> list[str]:
                    + (f", a*(du*) = {sp['au_star']:.3f} m/s^2." if sp.get("au_star") is not None else "."))
     elif a.get("curve_reason"):
         out.append(f"No capacity curve: {a['curve_reason']}.")
-    c = a.get("check")
-    if c:
-        li = c["linear"]
-        out.append(f"Linear check: a0* = {li['capacity']:.4f} against {li['demand']:.4f} m/s^2, ratio "
-                   f"{li['ratio']:.3f}: " + ("PASS" if li["pass"] else "FAIL") + ".")
-        nl = c.get("nonlinear")
-        if nl:
-            rule = nl.get("rule", "SDe(Ts)")
-            where = (f" (the floor spectrum at Z, T_SLV = {nl['period']:.3f} s)" if rule == "SDeZ(T_SLV)" else "")
-            out.append(f"Nonlinear check: du* = {nl['capacity'] * 1e3:.1f} mm against {rule}{where} = "
-                       f"{nl['demand'] * 1e3:.1f} mm, ratio {nl['ratio']:.3f}: " + ("PASS" if nl["pass"] else "FAIL") + ".")
-        else:
-            out.append(f"Nonlinear check: not made ({c.get('nonlinear_reason') or 'no capacity curve'}).")
+    return out + check_lines(a.get("check"))
+
+
+def check_lines(c: dict | None) -> list[str]:
+    """Sentences of a code check (:func:`limit.model.seismic_demand.check`'s result; none without one)."""
+    if not c:
+        return []
+    li = c["linear"]
+    out = [f"Linear check: a0* = {li['capacity']:.4f} against {li['demand']:.4f} m/s^2, ratio "
+           f"{li['ratio']:.3f}: " + ("PASS" if li["pass"] else "FAIL") + "."]
+    nl = c.get("nonlinear")
+    if nl:
+        rule = nl.get("rule", "SDe(Ts)")
+        where = (f" (the floor spectrum at Z, T_SLV = {nl['period']:.3f} s)" if rule == "SDeZ(T_SLV)" else "")
+        out.append(f"Nonlinear check: du* = {nl['capacity'] * 1e3:.1f} mm against {rule}{where} = "
+                   f"{nl['demand'] * 1e3:.1f} mm, ratio {nl['ratio']:.3f}: " + ("PASS" if nl["pass"] else "FAIL") + ".")
+    else:
+        out.append(f"Nonlinear check: not made ({c.get('nonlinear_reason') or 'no capacity curve'}).")
     return out
 
 
