@@ -100,17 +100,42 @@ def test_unsorted_actions_are_rejected():
 
 def test_reduced_system_shift():
     """N = Eh Hinv Eh.T: a singular N factors once shifted; an indefinite one is refused."""
-    import scipy.sparse as sp
-
     P = assemble(load_scene(B.stack(2, dim=2)))
     blocks = ipm._Blocks(P.Yh.tocsr(), P.model.x_iface)
-    red = ipm._Reduced(P.Eh.tocsr(), P.Eh.T.tocsr(), blocks)
-    n_x = P.Yh.shape[1]
-    red.factor(sp.csr_matrix((n_x, n_x)))  # N = 0: only the shift makes it definite
+    red = ipm._Reduced(P.Eh.tocsr(), blocks)
+    zero = [np.zeros((xidx.shape[0], xidx.shape[1], xidx.shape[1])) for *_, xidx in blocks.classes]
+    red.factor(zero)  # N = 0: only the shift makes it definite
     rhs = np.arange(1.0, P.n_dof + 1)
     assert np.all(np.isfinite(red.solve(rhs)))
     with pytest.raises(ArithmeticError):
-        red.factor(-sp.identity(n_x, format="csr"))
+        red.factor([-np.broadcast_to(np.eye(h.shape[1]), h.shape) for h in zero])
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_reduced_system_is_the_sparse_product(dim):
+    """N summed interface by interface equals scipy's Eh Hinv Eh.T (lower triangle), with Hinv
+    the block-diagonal matrix of the same random positive definite blocks."""
+    import scipy.sparse as sp
+
+    P = assemble(load_scene(B.running_bond_wall(4, 5, dim=dim)))
+    blocks = ipm._Blocks(P.Yh.tocsr(), P.model.x_iface)
+    red = ipm._Reduced(P.Eh.tocsr(), blocks)
+    rng = np.random.default_rng(3)
+    hinv = []
+    for *_, xidx in blocks.classes:
+        A = rng.standard_normal((xidx.shape[0], xidx.shape[1], xidx.shape[1]))
+        hinv.append(A @ A.transpose(0, 2, 1) + np.eye(xidx.shape[1]))
+    Hinv = blocks.matrix(hinv)
+    dense = np.zeros((blocks.n_x, blocks.n_x))
+    for (*_, xidx), h in zip(blocks.classes, hinv):
+        for g in range(xidx.shape[0]):
+            dense[np.ix_(xidx[g], xidx[g])] = h[g]
+    assert np.array_equal(Hinv.toarray(), dense)
+    N = sp.tril(P.Eh @ sp.csr_matrix(dense) @ P.Eh.T).toarray()
+    got = np.zeros_like(N)
+    M = red._M
+    got[np.array(M.I).ravel(), np.array(M.J).ravel()] = red.assemble(hinv)
+    assert np.allclose(got, N, rtol=1e-12, atol=1e-12 * np.abs(N).max())
 
 
 def test_cli_offers_every_solver():
