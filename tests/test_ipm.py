@@ -52,6 +52,16 @@ def test_same_alpha_as_clarabel_on_large_walls(dim, n):
     assert got.alpha == pytest.approx(ref.alpha, rel=1e-6)
 
 
+@pytest.mark.parametrize("correctors", [0, 1, 3])
+def test_the_centrality_correctors_leave_alpha_unchanged(correctors):
+    """Gondzio's correctors change the path, not the LP: each count gives Clarabel's alpha."""
+    P = assemble(load_scene(B.running_bond_wall(12, 12, dim=2, mu=0.65)))
+    ref, _, _ = solve_lp(P, "clarabel", fallback=False)
+    r = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, correctors=correctors)
+    assert r["status"] == "optimal"
+    assert r["alpha"] == pytest.approx(ref.alpha, rel=1e-6)
+
+
 def test_no_mechanism_fails_then_clarabel_answers():
     """A live load pressing the block onto its base drives no mechanism: ipm cannot tell, Clarabel can."""
     d = B.single_block(dim=2)

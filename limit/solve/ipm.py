@@ -9,8 +9,8 @@ capacities mu N* into c, :mod:`limit.solve.iterative_lp`, and may add a proximal
 ``1/2 sum q (x - x_ref)^2`` to the objective: a convex QP, whose diagonal q joins the
 interface blocks below)
 
-with Mehrotra's predictor-corrector (Gondzio's extra centrality correctors were
-tried: 10-15 % fewer iterations, more time, so not used). Its dual variables are the mechanism
+with Mehrotra's predictor-corrector and Gondzio's centrality correctors (:data:`MCC`). Its
+dual variables are the mechanism
 ``y`` (= the static LP's equality multipliers vh, with ``fLh . y = 1``) and
 the plastic multipliers ``z`` (= lamh >= 0).
 
@@ -53,6 +53,17 @@ REFINE = 3
 #: 3.50 s (63 iterations both); 10,050 2D blocks 18.7 s against 21.2 s (87 and 85 iterations); 3D
 #: 1,017 blocks 1.87 s against 1.79 s (39 both); the same alphas to 1e-9
 REFINE_PREDICTOR = 0
+#: Gondzio's centrality correctors per iteration (:func:`_centrality_correctors`) and their
+#: parameters. Measured (ipm.solve of the step-1 LP, one run each, idle machine, 2026-11-27),
+#: 0 / 1 / 2 / 3 correctors: 3,052 2D blocks 63 / 61 / 48 / 49 iterations (3.38 / 3.34 / 2.97 /
+#: 2.98 s); 10,050 2D blocks 87 / - / 68 / 62 iterations (18.1 / - / 15.4 / 14.9 s); 3D 3,024
+#: blocks 51 / - / 39 / - (8.17 / - / 6.69 s). (Tried before the faster factorisation of 2026-11-27:
+#: 10-15 % fewer iterations, more time.)
+MCC = 2
+MCC_DELTA = 0.2
+MCC_BETA_MIN = 0.1
+MCC_BETA_MAX = 10.0
+MCC_GAMMA = 0.1
 #: warm start (:func:`solve`'s ``warm``): slacks and multipliers below WARM_SHIFT x their mean
 #: in the given point are raised to it, back into the interior. Measured on the iterative LP of
 #: a 3,052-block 2D wall (tolerance 1e-4, cold 31-40 iterations): 0.001 failed, 0.01 took 50-70
@@ -316,9 +327,34 @@ class _Newton:
         return dv
 
 
+def _centrality_correctors(newton: _Newton, s: np.ndarray, z: np.ndarray, dv: list, mu_t: float, k: int) -> list:
+    """Gondzio's multiple centrality correctors (Gondzio 1996, Comput. Optim. Appl. 6, 137-156;
+    Colombo & Gondzio 2008, Comput. Optim. Appl. 41, 277-305) on the Mehrotra step ``dv``.
+
+    Each corrector aims at a longer step (the current one plus MCC_DELTA): the products s z at
+    that trial point outside [MCC_BETA_MIN, MCC_BETA_MAX] x mu_t (mu_t = sigma mu, the target) are
+    moved back into it (those far above by at most MCC_BETA_MAX mu_t), by one more solve with
+    the same factorisation and only the centring residual. A corrector is kept while it lengthens
+    the step by at least MCC_GAMMA x MCC_DELTA; at most k of them."""
+    ap, ad = _max_step(s, dv[2]), _max_step(z, dv[4])
+    zx, zs, zy = np.zeros_like(dv[0]), np.zeros_like(dv[2]), np.zeros_like(dv[3])
+    for _ in range(k):
+        at, bt = min(1.0, ap + MCC_DELTA), min(1.0, ad + MCC_DELTA)
+        v = (s + at * dv[2]) * (z + bt * dv[4])
+        t = np.maximum(np.clip(v, MCC_BETA_MIN * mu_t, MCC_BETA_MAX * mu_t) - v, -MCC_BETA_MAX * mu_t)
+        c = newton.direction(zx, 0.0, zy, zs, -t, refine=0)  # only the centring residual
+        trial = [a + b for a, b in zip(dv, c)]
+        ap1, ad1 = _max_step(s, trial[2]), _max_step(z, trial[4])
+        if ap1 + ad1 < ap + ad + MCC_GAMMA * MCC_DELTA:
+            break
+        dv, ap, ad = trial, ap1, ad1
+    return dv
+
+
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
           tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None,
-          warm: dict | None = None, q: np.ndarray | None = None, x_ref: np.ndarray | None = None) -> dict:
+          warm: dict | None = None, q: np.ndarray | None = None, x_ref: np.ndarray | None = None,
+          correctors: int = MCC) -> dict:
     """Static LP by the structured interior point method (see :func:`_solve`).
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
@@ -329,10 +365,11 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref)
+        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref, correctors)
 
 
-def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None, q=None, x_ref=None) -> dict:
+def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None, q=None, x_ref=None,
+           correctors=MCC) -> dict:
     """Static LP by the structured interior point method.
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
@@ -344,6 +381,9 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     multipliers raised to :data:`WARM_SHIFT` x their mean (default: the cold start x = 0,
     s = z = 1). ``q`` (n_x,) >= 0 and ``x_ref`` (n_x,): a proximal term, the objective becomes
     ``-alpha + 1/2 sum q (x - x_ref)^2`` (a convex QP; primal and dual take one step length).
+    ``correctors``: Gondzio's centrality correctors per iteration (:func:`_centrality_correctors`).
+    On an LP whose optimal face is not one point they change which point of it is returned (the
+    correctors centre less): the iterative LP without the proximal term asks for none.
     """
     t0 = time.perf_counter()
     Eh = sp.csr_matrix(Eh)
@@ -395,11 +435,18 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
             reason = f"alpha diverges ({a:.3g}): no collapse mechanism under this live load?"
             break
         tf = time.perf_counter()
+        d = z / s
+        if not np.all(np.isfinite(d)):
+            reason = f"a slack reached zero at iteration {it}"
+            break
         try:
-            hinv = blocks.inverse(z / s, q)
+            hinv = blocks.inverse(d, q)
             newton = _Newton(Eh, EhT, Yh, YhT, f, red, hinv, blocks.matrix(hinv), s, z, verbose, q)
         except ArithmeticError:
             reason = f"the reduced system is not positive definite at iteration {it}"
+            break
+        except np.linalg.LinAlgError as exc:
+            reason = f"an interface block could not be inverted at iteration {it} ({exc})"
             break
         t_fact += time.perf_counter() - tf
         res = (rd, ra, rp, rs)
@@ -407,7 +454,8 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         ap, ad = _max_step(s, dv[2]), _max_step(z, dv[4])
         mu_aff = float((s + ap * dv[2]) @ (z + ad * dv[4])) / m
         sigma = (mu_aff / mu) ** 3
-        dx, da, ds, dy, dz = newton.direction(*res, s * z + dv[2] * dv[4] - sigma * mu)  # corrector
+        dv = newton.direction(*res, s * z + dv[2] * dv[4] - sigma * mu)  # corrector
+        dx, da, ds, dy, dz = _centrality_correctors(newton, s, z, dv, sigma * mu, correctors)
         ap, ad = 0.99 * _max_step(s, ds), 0.99 * _max_step(z, dz)
         if q is not None:
             ap = ad = min(ap, ad)

@@ -116,6 +116,13 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
 #: 1e-6 throughout slowed a 1,000-block wall's snap from 29 LPs to 86)
 NSTAR_FLOOR = 1e-8
 NSTAR_FLOOR_MAX = 1e-4
+#: Gondzio's centrality correctors in each LP of the ipm backend (ipm.solve's ``correctors``): none.
+#: An LP whose optimal face is more than one point returns another point of it with them (they
+#: centre less), and the point taken steers the iteration: the confined block of scenes/builders.py
+#: diverged with 2 (N* growing tenfold per LP) and settled at 1.44 without; the 10,050-block 2D
+#: wall's route (proximal QPs) took 67 and 48 LPs for its two starts with 2 instead of 45 and 33
+#: (444 s against 364 s, one run each, 2026-11-27), although each LP was about 18 % faster
+ITERATIVE_CORRECTORS = 0
 
 
 def _proximal(P, ncol, nstar, prox) -> dict:
@@ -147,6 +154,7 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
             kw = {} if t_lp is None else {"tol": t_lp}
             if prox:
                 kw.update(_proximal(P, ncol, nstar, prox))
+            kw["correctors"] = ITERATIVE_CORRECTORS
             r = None
             if warm is not None and warm_start and rel == NSTAR_FLOOR:  # from the last LP's point; cold if that
                 # fails, and cold at every raised floor (a changed LP, far from the last point)
