@@ -27,6 +27,7 @@ SIZES = {2: (10, 100, 1000, 3000, 10000), 3: (10, 100, 1000, 3000)}
 VARIANTS = [
     ("auto", "auto", None, {2: 10**6, 3: 10**6}),
     ("ipm", "ipm", None, {2: 10**6, 3: 10**6}),
+    ("ipm no correctors", "ipm", {"correctors": 0}, {2: 10**6, 3: 10**6}),
     ("clarabel", "clarabel", None, {2: 10**6, 3: 10**6}),
     ("clarabel tol 1e-8", "clarabel", {"tol_gap_abs": 1e-8, "tol_gap_rel": 1e-8, "tol_feas": 1e-8,
                                         "tol_ktratio": 1e-6}, {2: 10**6, 3: 10**6}),
@@ -152,6 +153,13 @@ def summary(df, path):
             lines.append(f"- {dim}D {n} blocks: clarabel {t.loc['clarabel', 'total_s']:.2f} s, ipm "
                          f"{t.loc['ipm', 'total_s']:.2f} s (x{t.loc['clarabel', 'total_s'] / t.loc['ipm', 'total_s']:.1f}); "
                          f"alpha differs by {abs(t.loc['ipm', 'alpha'] - t.loc['clarabel', 'alpha']) / t.loc['clarabel', 'alpha']:.1e}")
+    lines += ["", "ipm's solve with and without Gondzio's centrality correctors (same wall, same run):", ""]
+    for (dim, n), g in df.groupby(["dim", "n_blocks"]):
+        t = g.set_index("solver")
+        if {"ipm", "ipm no correctors"} <= set(t.index):
+            lines.append(f"- {dim}D {n} blocks: {t.loc['ipm no correctors', 'solve_s']:.2f} s without, "
+                         f"{t.loc['ipm', 'solve_s']:.2f} s with "
+                         f"(x{t.loc['ipm no correctors', 'solve_s'] / t.loc['ipm', 'solve_s']:.2f})")
     lines += ["", "| dim | blocks | solver | status | verified | alpha | rel. error | total s | solve s |",
               "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for _, r in df.iterrows():
