@@ -62,6 +62,22 @@ def test_the_centrality_correctors_leave_alpha_unchanged(correctors):
     assert r["alpha"] == pytest.approx(ref.alpha, rel=1e-6)
 
 
+def test_a_structure_built_once_serves_many_solves():
+    """Solves of LPs that differ in their yield right-hand side give the same answers from one
+    :class:`ipm.Structure` as from their own; one built for other matrices is refused."""
+    P = assemble(load_scene(B.running_bond_wall(6, 6, dim=2, mu=0.65)))
+    st = ipm.Structure(P.Eh, P.Yh, P.model.x_iface)
+    for scale in (0.0, 0.05, 0.2):
+        c = np.full(P.Yh.shape[0], scale)
+        own = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, c=c)
+        shared = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, c=c, structure=st)
+        assert own["status"] == shared["status"] == "optimal"
+        assert shared["alpha"] == own["alpha"] and np.array_equal(shared["xh"], own["xh"])
+    other = assemble(load_scene(B.stack(2, dim=2)))
+    with pytest.raises(ValueError, match="other shapes"):
+        ipm.solve(other.Eh, other.Yh, other.f0h, other.fLh, other.model.x_iface, structure=st)
+
+
 def test_no_mechanism_fails_then_clarabel_answers():
     """A live load pressing the block onto its base drives no mechanism: ipm cannot tell, Clarabel can."""
     d = B.single_block(dim=2)

@@ -221,7 +221,9 @@ class _Reduced:
         ukeys = np.unique(np.concatenate(keys))
         col, row = ukeys // n, ukeys % n
         self.n, self.nnz = n, ukeys.size
-        self.classes = [(Ed, keep, np.searchsorted(ukeys, key)) for Ed, keep, key in per_class]
+        # per class, the sparse map from the w x w entries of every interface to N's values
+        self.classes = [(Ed, sp.csr_matrix((np.ones(key.size), (np.searchsorted(ukeys, key), np.flatnonzero(keep))),
+                                           shape=(ukeys.size, keep.size))) for Ed, keep, key in per_class]
         self.diag = np.searchsorted(ukeys, np.arange(n, dtype=np.int64) * (n + 1))
         self._M = spmatrix(matrix(np.zeros(ukeys.size)), matrix(row.astype(int)), matrix(col.astype(int)), size=(n, n))
         self.F = cholmod.symbolic(self._M, uplo="L")
@@ -229,9 +231,8 @@ class _Reduced:
     def assemble(self, hinv: list[np.ndarray]) -> np.ndarray:
         """The values of N's lower triangle (in the pattern's order) for the blocks' inverses."""
         vals = np.zeros(self.nnz)
-        for (Ed, keep, pos), Hi in zip(self.classes, hinv):
-            Ni = np.matmul(np.matmul(Ed, Hi), Ed.transpose(0, 2, 1))
-            vals += np.bincount(pos, weights=Ni.reshape(-1)[keep], minlength=self.nnz)
+        for (Ed, to_n), Hi in zip(self.classes, hinv):
+            vals += to_n @ np.matmul(np.matmul(Ed, Hi), Ed.transpose(0, 2, 1)).ravel()
         return vals
 
     def factor(self, hinv: list[np.ndarray], verbose: bool = False) -> None:
@@ -351,10 +352,22 @@ def _centrality_correctors(newton: _Newton, s: np.ndarray, z: np.ndarray, dv: li
     return dv
 
 
+class Structure:
+    """What :func:`solve` builds from the matrices alone (their transposes, the interface blocks and
+    N's pattern with its symbolic factorisation), kept for a series of solves with the same Eh, Yh
+    and x_group (the iterative LP: 0.3 s per LP at 10,050 2D blocks)."""
+
+    def __init__(self, Eh: sp.csr_matrix, Yh: sp.csr_matrix, x_group: np.ndarray):
+        self.Eh, self.Yh = sp.csr_matrix(Eh), sp.csr_matrix(Yh)
+        self.EhT, self.YhT = self.Eh.T.tocsr(), self.Yh.T.tocsr()
+        self.blocks = _Blocks(self.Yh, np.asarray(x_group))
+        self.red = _Reduced(self.Eh, self.blocks)
+
+
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
           tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None,
           warm: dict | None = None, q: np.ndarray | None = None, x_ref: np.ndarray | None = None,
-          correctors: int = MCC) -> dict:
+          correctors: int = MCC, structure: Structure | None = None) -> dict:
     """Static LP by the structured interior point method (see :func:`_solve`).
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
@@ -365,11 +378,11 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref, correctors)
+        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref, correctors, structure)
 
 
 def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None, q=None, x_ref=None,
-           correctors=MCC) -> dict:
+           correctors=MCC, structure=None) -> dict:
     """Static LP by the structured interior point method.
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
@@ -384,14 +397,15 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     ``correctors``: Gondzio's centrality correctors per iteration (:func:`_centrality_correctors`).
     On an LP whose optimal face is not one point they change which point of it is returned (the
     correctors centre less): the iterative LP without the proximal term asks for none.
+    ``structure``: a :class:`Structure` of these Eh, Yh and x_group, built once for many solves.
     """
     t0 = time.perf_counter()
-    Eh = sp.csr_matrix(Eh)
-    Yh = sp.csr_matrix(Yh)
-    EhT = Eh.T.tocsr()
-    YhT = Yh.T.tocsr()
-    blocks = _Blocks(Yh, np.asarray(x_group))
-    red = _Reduced(Eh, blocks)
+    if structure is None:
+        structure = Structure(Eh, Yh, x_group)
+    elif structure.Eh.shape != Eh.shape or structure.Yh.shape != Yh.shape:
+        raise ValueError("the structure was built for matrices of other shapes")
+    st = structure
+    Eh, Yh, EhT, YhT, blocks, red = st.Eh, st.Yh, st.EhT, st.YhT, st.blocks, st.red
     n_x, m, nd = Yh.shape[1], Yh.shape[0], Eh.shape[0]
     b = -np.asarray(f0h, float)
     f = np.asarray(fLh, float)

@@ -142,6 +142,7 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
     fr, Yc, ncol, ncoef = friction_rows(P)
     nstar = (lp_sol.x / P.Dx)[ncol] if nstar0 is None else np.asarray(nstar0, float).copy()
     history, r, it, status, warm = [], None, 0, "not_converged", None
+    structure = ipm.Structure(P.Eh, Yc, P.model.x_iface)  # the same matrices in every LP
     for it in range(1, max_iter + 1):
         c = np.zeros(Yc.shape[0])
         # a joint that opened (N* = 0) keeps a sliver of shear capacity: with none, its two
@@ -154,7 +155,7 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
             kw = {} if t_lp is None else {"tol": t_lp}
             if prox:
                 kw.update(_proximal(P, ncol, nstar, prox))
-            kw["correctors"] = ITERATIVE_CORRECTORS
+            kw.update(correctors=ITERATIVE_CORRECTORS, structure=structure)
             r = None
             if warm is not None and warm_start and rel == NSTAR_FLOOR:  # from the last LP's point; cold if that
                 # fails, and cold at every raised floor (a changed LP, far from the last point)
