@@ -146,7 +146,8 @@ def _spd_inverse(H: np.ndarray) -> np.ndarray:
 
     Each block, shifted by REG_H of its largest diagonal entry, is inverted through its
     Cholesky factor L (H = L L.T, H^-1 = L^-T L^-1), column by column over all blocks at once
-    (one LAPACK call per block cost 4x more at 20,000 blocks). A block whose pivot is not
+    (np.linalg.inv with a Cholesky check of its result: 32 ms per call at 10,050 2D blocks, this
+    16 ms; cProfile, 2026-11-27). A block whose pivot is not
     positive, or whose inverse is not finite, goes through its eigenvalues instead, clamped at
     REG_H of the largest."""
     g, k, _ = H.shape
@@ -398,7 +399,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     ``-alpha + 1/2 sum q (x - x_ref)^2`` (a convex QP; primal and dual take one step length).
     ``correctors``: Gondzio's centrality correctors per iteration (:func:`_centrality_correctors`).
     On an LP whose optimal face is not one point they change which point of it is returned (the
-    correctors centre less): the iterative LP without the proximal term asks for none.
+    correctors centre less): the iterative LP asks for none (iterative_lp.ITERATIVE_CORRECTORS).
     ``structure``: a :class:`Structure` of these Eh, Yh and x_group, built once for many solves.
     """
     t0 = time.perf_counter()
