@@ -54,7 +54,9 @@ both starts verified 0.335865 and the route took 441 s (the 0.5 mu start 353 s, 
 419 s, 48 LPs; with the LP's start instead of 0.4 mu it ran to the 600 s budget). On the same
 machine (2026-11-27) with the faster interior point method of that day (each LP about 25 % faster):
 357 s, both starts verified 0.335865 (0.5 mu 339 s, 53 LPs; 0.4 mu 221 s, 34 LPs); the number of LPs
-of a start changes with rounding-level changes of the LPs (41 to 53 at 0.5 mu, 33 to 48 at 0.4 mu). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
+of a start changes with rounding-level changes of the LPs (41 to 53 at 0.5 mu, 33 to 48 at 0.4 mu).
+There, 3D 3,024 blocks: both starts verified, best 0.526630 (0.5 mu, 323 s), worst 0.527754 (the
+LP's start, 87 LPs), 453 s. 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
 start, 112-130 s), both verified in 204 s (none in 600 s before the snap took Clarabel's
 AlmostSolved).
