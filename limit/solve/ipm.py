@@ -331,7 +331,8 @@ class _Newton:
         return dv
 
 
-def _centrality_correctors(newton: _Newton, s: np.ndarray, z: np.ndarray, dv: list, mu_t: float, k: int) -> list:
+def _centrality_correctors(newton: _Newton, s: np.ndarray, z: np.ndarray, dv: list, mu_t: float,
+                           k: int) -> tuple[list, float, float]:
     """Gondzio's multiple centrality correctors (Gondzio 1996, Comput. Optim. Appl. 6, 137-156;
     Colombo & Gondzio 2008, Comput. Optim. Appl. 41, 277-305) on the Mehrotra step ``dv``.
 
@@ -339,7 +340,8 @@ def _centrality_correctors(newton: _Newton, s: np.ndarray, z: np.ndarray, dv: li
     that trial point outside [MCC_BETA_MIN, MCC_BETA_MAX] x mu_t (mu_t = sigma mu, the target) are
     moved back into it (those far above by at most MCC_BETA_MAX mu_t), by one more solve with
     the same factorisation and only the centring residual. A corrector is kept while it lengthens
-    the step by at least MCC_GAMMA x MCC_DELTA; at most k of them."""
+    the step by at least MCC_GAMMA x MCC_DELTA; at most k of them. Returns the step and its
+    largest primal and dual step lengths (:func:`_max_step`)."""
     ap, ad = _max_step(s, dv[2]), _max_step(z, dv[4])
     zx, zs, zy = np.zeros_like(dv[0]), np.zeros_like(dv[2]), np.zeros_like(dv[3])
     for _ in range(k):
@@ -352,7 +354,7 @@ def _centrality_correctors(newton: _Newton, s: np.ndarray, z: np.ndarray, dv: li
         if ap1 + ad1 < ap + ad + MCC_GAMMA * MCC_DELTA:
             break
         dv, ap, ad = trial, ap1, ad1
-    return dv
+    return dv, ap, ad
 
 
 class Structure:
@@ -472,8 +474,8 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         mu_aff = float((s + ap * dv[2]) @ (z + ad * dv[4])) / m
         sigma = (mu_aff / mu) ** 3
         dv = newton.direction(*res, s * z + dv[2] * dv[4] - sigma * mu)  # corrector
-        dx, da, ds, dy, dz = _centrality_correctors(newton, s, z, dv, sigma * mu, correctors)
-        ap, ad = 0.99 * _max_step(s, ds), 0.99 * _max_step(z, dz)
+        (dx, da, ds, dy, dz), ap, ad = _centrality_correctors(newton, s, z, dv, sigma * mu, correctors)
+        ap, ad = 0.99 * ap, 0.99 * ad
         if q is not None:
             ap = ad = min(ap, ad)
         if verbose:
