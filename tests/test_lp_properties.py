@@ -113,3 +113,26 @@ def test_alpha_invariant_to_full_rotation_3d():
     a0, *_ = lp_alpha(d)
     a, *_ = lp_alpha(transform(d, R=random_rotation(3, rng), t=[3, -4, 5]))
     assert a == pytest.approx(a0, rel=1e-6)
+
+
+def test_block_equilibrium_weighs_a_moment_by_the_block_size():
+    """verify.block_equilibrium on a block b x h (2D, weight W, live load alpha W horizontal at
+    its centroid) on a fixed base: at the LP's answer the block is in balance; a moment dM added
+    to the base interface's action leaves the block out of balance by dM alone, which the check
+    divides by its load |(alpha W, W)| = W sqrt(1 + alpha^2) times its size max(b, h):
+    dM / (W sqrt(1 + alpha^2) max(b, h))."""
+    from limit.solve import verify
+
+    b, h, rho, g = 0.3, 1.0, 2000.0, 9.81
+    P = assemble(load_scene(B.single_block(2, b, h, mu=0.8)))
+    sol, _, _ = solve_lp(P, "clarabel", fallback=False)
+    assert verify.block_equilibrium(P, sol.alpha, sol.x) < 1e-8
+    W = rho * b * h * g  # per unit thickness: the 2D scenes' blocks are 1 m deep
+    m = np.flatnonzero(P.model.x_is_moment)
+    assert m.size == 1
+    dM = 0.01 * W * b
+    x = sol.x.copy()
+    x[m] += dM
+    expect = dM / (W * np.hypot(1.0, sol.alpha) * max(b, h))
+    assert verify.block_equilibrium(P, sol.alpha, x) == pytest.approx(expect, rel=1e-6)
+    assert P.block_size == pytest.approx([max(b, h)])

@@ -23,6 +23,7 @@ the scene's characteristic length and force.
 from __future__ import annotations
 
 import time
+from functools import cached_property
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -88,6 +89,12 @@ class Assembled:
     def n_dof(self) -> int:
         return self.B.shape[1]
 
+    @cached_property
+    def block_size(self) -> np.ndarray:
+        """:func:`block_sizes` of the scene, kept: the lever arm that makes a moment residual a
+        force (:func:`limit.solve.verify.block_equilibrium`, once per iterate at scale)."""
+        return block_sizes(self.scene)
+
     def full(self, v) -> np.ndarray:
         """A dof vector (n_dof,) expanded to every free-block dof (n_free * ndof,), zero where blocked."""
         v = np.asarray(v, dtype=float)
@@ -96,6 +103,12 @@ class Assembled:
         out = np.zeros(self.keep.size)
         out[self.keep] = v
         return out
+
+
+def block_sizes(scene) -> np.ndarray:
+    """(n_free,) the largest extent of each free block's vertices along an axis (m), in the order
+    of ``scene.free``."""
+    return np.array([np.ptp(scene.blocks[i].poly.vertices, axis=0).max() for i in scene.free])
 
 
 def _check_contacts(scene, I) -> None:
@@ -133,7 +146,7 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     A = (model.H.T @ B).tocsr()
 
     free = scene.free
-    sizes = np.array([np.ptp(scene.blocks[i].poly.vertices, axis=0).max() for i in free]) if len(free) else np.ones(1)
+    sizes = block_sizes(scene) if len(free) else np.ones(1)
     Lc = float(np.median(sizes))
     g = float(np.linalg.norm(scene.gravity))
     Wc = float(np.mean([scene.blocks[i].mass for i in free]) * g) if len(free) else 1.0

@@ -43,7 +43,7 @@ def block_equilibrium(P, alpha, x) -> float:
     nd, d = P.scene.ndof, P.scene.dim
     res = P.full(P.A.T @ x + P.f0 + alpha * P.fL).reshape(-1, nd)
     load = P.full(P.f0 + alpha * P.fL).reshape(-1, nd)
-    size = np.array([np.ptp(P.scene.blocks[i].poly.vertices, axis=0).max() for i in P.scene.free])
+    size = P.block_size
     f_load = np.linalg.norm(load[:, :d], axis=1) + np.linalg.norm(load[:, d:], axis=1) / size
     floor = 1e-9 * max(float(f_load.max(initial=0.0)), 1e-300)
     f_load = np.maximum(f_load, floor)
