@@ -37,7 +37,8 @@ from .runner import failed, run_job
 
 
 def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None, yade: str | None = None,
-              keep_dir: bool = False, contact: str = "vertex", engine: str = "yade", **knobs) -> dict:
+              keep_dir: bool = False, contact: str = "vertex", engine: str = "yade",
+              cpu_limit_s: float | None = None, **knobs) -> dict:
     """DEM pushover of a scene (a :class:`limit.model.scene.Scene`, a scene dict or a path).
 
     ``engine``: ``yade`` (compliant contacts, extrapolated to rigid ones; the default)
@@ -46,7 +47,8 @@ def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None,
     do not apply).
 
     ``knobs``: see :data:`dem_validation.params.KNOBS` (ValueError for an unknown or
-    bad one). ``timeout_s``: wall-clock limit of the YADE run (None: none).
+    bad one). ``timeout_s``: wall-clock limit of the YADE run (None: none); ``cpu_limit_s``: limit
+    of the engine's CPU seconds (None: none), which a busy machine does not use up.
     ``progress(dict)``: called with progress records (eps, alpha, step, residual).
     ``yade``: the YADE executable (default $DEM_YADE or ``yade`` on PATH).
     ``contact``: the block model, ``vertex`` (vertex spheres against faces, the
@@ -64,15 +66,16 @@ def run_scene(scene_or_path, *, timeout_s: float | None = 1800.0, progress=None,
 
         lmgc_knobs(knobs)  # bad knobs before the scene
         scene = scene_or_path if isinstance(scene_or_path, Scene) else load_scene(scene_or_path)
-        return run_loaded_lmgc90(scene, knobs, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
+        return run_loaded_lmgc90(scene, knobs, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir,
+                                 cpu_limit_s=cpu_limit_s)
     p = P.check(knobs, contact)
     scene = scene_or_path if isinstance(scene_or_path, Scene) else load_scene(scene_or_path)
     return run_loaded(scene, p, timeout_s=timeout_s, progress=progress, yade=yade, keep_dir=keep_dir,
-                      contact=contact)
+                      contact=contact, cpu_limit_s=cpu_limit_s)
 
 
 def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep_dir=False, interfaces=None,
-               contact="vertex") -> dict:
+               contact="vertex", cpu_limit_s=None) -> dict:
     """run_scene for a loaded scene and checked knobs ``p``."""
     from limit.geom.interfaces import find_interfaces
     from limit.model.loads import dead_and_live
@@ -88,7 +91,7 @@ def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep
         job = build_job(scene, I, f0, fL, p, contact=contact)
     except ValueError as exc:  # e.g. vertex spheres that do not fit a block at these knobs
         return failed(f"cannot build the DEM model: {exc}", time_s=time.monotonic() - t0, params=used)
-    raw = run_job(job, yade=yade, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
+    raw = run_job(job, yade=yade, timeout_s=timeout_s, progress=progress, keep_dir=keep_dir, cpu_limit_s=cpu_limit_s)
     out = assemble(raw, p)
     out["time_s"] = time.monotonic() - t0
     out["params"] = used

@@ -16,7 +16,7 @@ from .runner import failed, run_job
 
 
 def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep_dir=False,
-                      interfaces=None, hint: float | None = None) -> dict:
+                      interfaces=None, hint: float | None = None, cpu_limit_s=None) -> dict:
     """LMGC90 pushover of a loaded :class:`limit.model.scene.Scene`; every fault is a failed dict.
     ``hint``: a guessed alpha (the limit analysis's) to start the bracket from; it saves
     trials, it does not enter the result."""
@@ -34,7 +34,8 @@ def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep
     job.update(gravity=[float(x) for x in scene.gravity], rigid=p)
     if hint is not None and hint > 0:
         job["hint"] = float(hint)
-    raw = run_job(job, engine="lmgc90", timeout_s=timeout_s, progress=progress, keep_dir=keep_dir)
+    raw = run_job(job, engine="lmgc90", timeout_s=timeout_s, progress=progress, keep_dir=keep_dir,
+                  cpu_limit_s=cpu_limit_s)
     out = assemble_rigid(raw)
     out.update(time_s=time.monotonic() - t0, **base)
     return out

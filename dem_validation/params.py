@@ -60,7 +60,7 @@ BY_CONTACT = {"vertex": {"eps": (1e-5, 2.5e-6), "extrapolation_exponent": 1.0},
               "polyhedra": {"eps": (1e-4, 1e-5), "extrapolation_exponent": 1 / 3}}
 
 # Run-level options of run_scene (not sent to YADE).
-RUN_OPTIONS = ("timeout_s", "progress", "yade", "keep_dir", "contact")
+RUN_OPTIONS = ("timeout_s", "cpu_limit_s", "progress", "yade", "keep_dir", "contact")
 
 
 def check(knobs: dict, contact: str = "vertex") -> dict:

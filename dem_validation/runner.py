@@ -119,11 +119,15 @@ def _reader(stream, q):
 
 
 def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = None, progress=None,
-            keep_dir: bool = False, script: Path | None = None, engine: str = "yade") -> dict:
+            keep_dir: bool = False, script: Path | None = None, engine: str = "yade",
+            cpu_limit_s: float | None = None) -> dict:
     """Run ``job`` (see dem_validation.job) in YADE (``engine="yade"``) or LMGC90
     (``"lmgc90"``, the job with ``gravity``: :mod:`dem_validation.lmgc_main`); returns
     the engine side's result dict or a failed one. ``progress(dict)`` receives the
-    progress records (alpha, step, ...). ``timeout_s``: wall-clock limit (None: no limit)."""
+    progress records (alpha, step, ...). ``timeout_s``: wall-clock limit (None: no limit).
+    ``cpu_limit_s``: limit of the engine's own CPU seconds (None: no limit), which unlike the
+    wall clock does not run out on a machine busy with other work; the wall-clock limit is then
+    only the guard against a hung engine."""
     if engine not in ENGINES:
         raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
     label = ENGINES[engine]
@@ -160,13 +164,17 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             q: queue.Queue = queue.Queue()
             th = threading.Thread(target=_reader, args=(proc.stdout, q), daemon=True)
             th.start()
-            timed_out = _pump(proc, q, progress, t0, timeout_s)
+            limit = _pump(proc, q, progress, t0, timeout_s, cpu_limit_s)
             th.join(timeout=5)
         elapsed = time.monotonic() - t0
-        if timed_out:
+        if limit is not None:
             cpu = getattr(proc, "cpu_at_kill", None)
+            extra = {"cpu_s": cpu} if cpu is not None else {}
+            if limit == "cpu":
+                return failed(f"used {cpu:.0f} s of CPU (CPU limit {cpu_limit_s:g} s) in {elapsed:.1f} s; "
+                              f"{label} was killed", time_s=elapsed, **extra)
             return failed(f"timed out after {elapsed:.1f} s (time limit {timeout_s:g} s); {label} was killed",
-                          time_s=elapsed, **({"cpu_s": cpu} if cpu is not None else {}))
+                          time_s=elapsed, **extra)
         rc = proc.returncode
         result_path = work / "result.json"
         if rc != 0 or not result_path.exists():
@@ -201,14 +209,22 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             shutil.rmtree(work, ignore_errors=True)
 
 
-def _pump(proc, q, progress, t0, timeout_s) -> bool:
-    """Forward progress lines until YADE exits; True when it was killed for time."""
+def _pump(proc, q, progress, t0, timeout_s, cpu_limit_s=None) -> str | None:
+    """Forward progress lines until the engine exits; the limit it was killed for ("wall" or
+    "cpu", checked every 0.5 s), or None."""
     deadline = None if timeout_s is None else t0 + timeout_s
+    next_cpu = time.monotonic()
     while True:
-        left = None if deadline is None else deadline - time.monotonic()
+        now = time.monotonic()
+        left = None if deadline is None else deadline - now
         if left is not None and left <= 0:
             _kill(proc)
-            return True
+            return "wall"
+        if cpu_limit_s is not None and now >= next_cpu:
+            next_cpu = now + 0.5
+            if (process_cpu_s(proc.pid) or 0.0) >= cpu_limit_s:
+                _kill(proc)
+                return "cpu"
         try:
             line = q.get(timeout=0.5 if left is None else min(0.5, left))
         except queue.Empty:
@@ -216,10 +232,10 @@ def _pump(proc, q, progress, t0, timeout_s) -> bool:
         if line is None:  # YADE closed its stdout: wait for it to exit
             try:
                 proc.wait(timeout=None if deadline is None else max(0.0, deadline - time.monotonic()))
-                return False
+                return None
             except subprocess.TimeoutExpired:
                 _kill(proc)
-                return True
+                return "wall"
         if line.startswith(PROGRESS_TAG) and progress is not None:
             try:
                 progress(json.loads(line[len(PROGRESS_TAG):]))

@@ -332,6 +332,33 @@ def test_yade_hang_past_the_time_limit_is_failed_and_killed(tmp_path):
     assert 0 < dem["cpu_s"] <= dem["time_s"] + 1.0  # the CPU it had used when it was killed
 
 
+def test_cpu_limit_counts_the_engines_own_cpu(tmp_path):
+    """``cpu_limit_s``: an engine that computes (a busy loop) is killed once it has used the
+    limit's CPU seconds, well before the wall-clock limit; one that waits uses no CPU and runs
+    on until the wall-clock limit (the guard against a hung engine)."""
+    exe = _fake_yade(tmp_path, "while :; do :; done")
+    t0 = time.monotonic()
+    res = run_job(_job(), yade=exe, timeout_s=60, cpu_limit_s=2.0)
+    assert time.monotonic() - t0 < 30
+    assert res["status"] == "failed" and "CPU limit 2 s" in res["reason"] and res["cpu_s"] >= 2.0
+    idle = _fake_yade(tmp_path, "sleep 60 & wait")
+    res = run_job(_job(), yade=idle, timeout_s=3, cpu_limit_s=2.0)
+    assert res["status"] == "failed" and "timed out" in res["reason"] and res["cpu_s"] < 2.0
+
+
+def test_validation_stages_limit_cpu_and_wall_clock():
+    """reports.stages: the DEM and LMGC90 stages carry a CPU limit below their wall-clock guard,
+    and a scene's meta.dem replaces either."""
+    from reports import stages
+
+    d = stages.dem_options({})
+    assert d["cpu_limit_s"] == stages.DEM_CPU_LIMIT < d["timeout_s"] == stages.DEM_TIMEOUT
+    lm = stages.lmgc_options({})
+    assert lm["cpu_limit_s"] == stages.LMGC_CPU_LIMIT < lm["timeout_s"] == stages.LMGC_TIMEOUT
+    own = stages.dem_options({"meta": {"dem": {"cpu_limit_s": 10.0, "timeout_s": 20.0}}})
+    assert (own["cpu_limit_s"], own["timeout_s"]) == (10.0, 20.0)
+
+
 def test_nan_in_the_simulation_is_failed():
     job = _job()
     job["f0"][0][0] = float("nan")  # a NaN force drives the block's position to NaN
