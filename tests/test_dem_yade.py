@@ -347,15 +347,19 @@ def test_cpu_limit_counts_the_engines_own_cpu(tmp_path):
 
 
 def test_validation_stages_limit_cpu_and_wall_clock():
-    """reports.stages: the DEM and LMGC90 stages carry a CPU limit below their wall-clock guard,
-    and a scene's meta.dem replaces either."""
+    """reports.stages: the DEM and LMGC90 stages carry a CPU limit of at least DEM_CPU_LIMIT /
+    LMGC_CPU_LIMIT and COST_FACTOR x the scene's measured cost, a wall-clock guard WALL_FACTOR
+    times that, and a scene's meta.dem replaces either."""
     from reports import stages
 
     d = stages.dem_options({})
-    assert d["cpu_limit_s"] == stages.DEM_CPU_LIMIT < d["timeout_s"] == stages.DEM_TIMEOUT
-    lm = stages.lmgc_options({})
-    assert lm["cpu_limit_s"] == stages.LMGC_CPU_LIMIT < lm["timeout_s"] == stages.LMGC_TIMEOUT
-    own = stages.dem_options({"meta": {"dem": {"cpu_limit_s": 10.0, "timeout_s": 20.0}}})
+    assert (d["cpu_limit_s"], d["timeout_s"]) == (stages.DEM_CPU_LIMIT, stages.WALL_FACTOR * stages.DEM_CPU_LIMIT)
+    big = stages.DEM_CPU_LIMIT  # a scene whose measured cost is the floor itself
+    d = stages.dem_options({"meta": {"dem": {"cost_s": big}}})
+    assert d["cpu_limit_s"] == stages.COST_FACTOR * big > stages.DEM_CPU_LIMIT
+    lm = stages.lmgc_options({"meta": {"lmgc": {"cost_s": 1.0}}})
+    assert lm["cpu_limit_s"] == stages.LMGC_CPU_LIMIT < lm["timeout_s"]
+    own = stages.dem_options({"meta": {"dem": {"cpu_limit_s": 10.0, "timeout_s": 20.0, "cost_s": 1e4}}})
     assert (own["cpu_limit_s"], own["timeout_s"]) == (10.0, 20.0)
 
 
