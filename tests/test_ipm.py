@@ -118,6 +118,26 @@ def test_block_inverse_stays_positive_definite():
     assert np.allclose(ipm._spd_inverse(Hw) @ Hw, np.eye(6), atol=1e-9)
 
 
+@pytest.mark.parametrize("dim", [2, 3])
+def test_interface_blocks_are_the_inverses_of_their_yield_rows(dim):
+    """_Blocks.inverse(d, q) against numpy, interface by interface: the inverse of
+    ``Y_i.T diag(d_i) Y_i + diag(q_i)``, Y_i the yield rows of interface i on its own actions
+    (a wall's Yh, random face weights d and proximal weights q)."""
+    P = assemble(load_scene(B.running_bond_wall(4, 4, dim=dim, mu=0.7)))
+    rng = np.random.default_rng(3)
+    d = 10.0 ** rng.uniform(-2, 2, P.Yh.shape[0])
+    q = rng.uniform(0.0, 1.0, P.model.n_x)
+    blocks = ipm._Blocks(P.Yh, P.model.x_iface)
+    Hinv = blocks.matrix(blocks.inverse(d, q)).toarray()
+    Y = P.Yh.toarray()
+    for i in np.unique(P.model.x_iface):
+        cols = np.flatnonzero(P.model.x_iface == i)
+        rows = np.flatnonzero(np.abs(Y[:, cols]).sum(axis=1) > 0)
+        H = Y[np.ix_(rows, cols)].T @ np.diag(d[rows]) @ Y[np.ix_(rows, cols)] + np.diag(q[cols])
+        assert np.allclose(Hinv[np.ix_(cols, cols)], np.linalg.inv(H), rtol=1e-9, atol=1e-12)
+    assert np.count_nonzero(Hinv) == sum(np.sum(P.model.x_iface == i) ** 2 for i in np.unique(P.model.x_iface))
+
+
 def test_unsorted_actions_are_rejected():
     P = assemble(load_scene(B.stack(2, dim=2)))
     with pytest.raises(ValueError, match="interface by interface"):
