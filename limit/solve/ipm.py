@@ -71,13 +71,6 @@ MCC_GAMMA = 0.1
 WARM_SHIFT = 1.0
 #: a Newton step whose residual is below this (scaled units) is not refined
 REFINE_ABS = 1e-11
-#: ... or below REFINE_TOL x the solve's tolerance, whichever is larger: an LP solved to 1e-4 (the
-#: iterative LP far from a collapse state) needs no step exact to 1e-11. Measured on an iterative LP of
-#: 3,052 2D blocks (2026-11-27, alternated with the code before, 3 runs each, a validate on the cores):
-#: at tol 1e-4 31 interior point iterations (32 before) in 2.36 s against 3.07 s (medians); at 1e-7
-#: (where the threshold is 1e-10) 39 iterations both, 3.29 against 3.41 s; with no refinement at all
-#: the same iteration counts
-REFINE_TOL = 1e-3
 
 
 class _Blocks:
@@ -335,7 +328,7 @@ class _Newton:
         dz = (-r5 - z * ds) / s
         return [dx, da, ds, dy, dz]
 
-    def direction(self, *rhs, refine: int = REFINE, small: float = REFINE_ABS):
+    def direction(self, *rhs, refine: int = REFINE):
         """The Newton step with ``refine`` rounds of iterative refinement on the unreduced system (the
         reduction loses accuracy when D = z / s spans many orders of magnitude near the optimum)."""
         r1, r2, r3, r4, r5 = rhs
@@ -347,7 +340,7 @@ class _Newton:
             e = (e0, float(self.f @ dy) + r2, self.Eh @ dx + self.f * da + r3,
                  self.Yh @ dx + ds + r4, self.z * ds + self.s * dz + r5)
             err = max(np.abs(np.atleast_1d(v)).max(initial=0.0) for v in e)
-            if err <= small or (best is not None and err >= 0.5 * best):
+            if err <= REFINE_ABS or (best is not None and err >= 0.5 * best):
                 break
             best = err
             dv = [v + c for v, c in zip(dv, self.solve(*e))]
@@ -449,7 +442,6 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         z = np.maximum(warm["lamh"], WARM_SHIFT * max(float(np.mean(np.abs(warm["lamh"]))), 1e-300))
     nb = 1.0 + np.abs(b).max(initial=0.0)
     nc = 1.0 + np.abs(cy).max(initial=0.0)
-    small = max(REFINE_ABS, REFINE_TOL * tol)  # refinement stops there
     t_setup = time.perf_counter() - t0
     t_fact = 0.0
     status, reason = "failed", f"not converged in {max_iter} iterations"
@@ -497,7 +489,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         ap, ad = _max_step(s, dv[2]), _max_step(z, dv[4])
         mu_aff = float((s + ap * dv[2]) @ (z + ad * dv[4])) / m
         sigma = (mu_aff / mu) ** 3
-        dv = newton.direction(*res, s * z + dv[2] * dv[4] - sigma * mu, small=small)  # corrector
+        dv = newton.direction(*res, s * z + dv[2] * dv[4] - sigma * mu)  # corrector
         (dx, da, ds, dy, dz), ap, ad = _centrality_correctors(newton, s, z, dv, sigma * mu, correctors)
         ap, ad = 0.99 * ap, 0.99 * ad
         if q is not None:
