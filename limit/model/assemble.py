@@ -23,8 +23,8 @@ the scene's characteristic length and force.
 from __future__ import annotations
 
 import time
-from functools import cached_property
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
