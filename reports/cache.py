@@ -42,7 +42,25 @@ def code_fingerprint(stage: str) -> str:
     return h.hexdigest()
 
 
+#: stage options that decide no result (a result that came back did not reach its limits), and the
+#: scene's per-stage entry that only orders the run (its measured cost), both left out of the key
+NOT_IN_KEY = ("timeout_s", "cpu_limit_s")
+META_NOT_IN_KEY = ("cost_s",)
+
+
+def _decisive(scene_data: dict, options: dict) -> tuple[dict, dict]:
+    """The scene and options without what decides no result (:data:`NOT_IN_KEY`)."""
+    opts = {k: v for k, v in options.items() if k not in NOT_IN_KEY}
+    meta = scene_data.get("meta")
+    if isinstance(meta, dict):
+        meta = {st: ({k: v for k, v in m.items() if k not in META_NOT_IN_KEY} if isinstance(m, dict) else m)
+                for st, m in meta.items()}
+        scene_data = {**scene_data, "meta": meta}
+    return scene_data, opts
+
+
 def key(stage: str, scene_data: dict, options: dict) -> str:
+    scene_data, options = _decisive(scene_data, options)
     payload = json.dumps({"stage": stage, "scene": scene_data, "options": options}, sort_keys=True,
                          separators=(",", ":"), default=str)
     h = hashlib.sha256(payload.encode())

@@ -74,6 +74,21 @@ def test_changed_options_or_stage_miss(scene, tmp_path):
     assert len({k, *others}) == 1 + len(others)
 
 
+def test_limits_and_measured_costs_keep_the_key(scene):
+    """A stage's limits (timeout_s, cpu_limit_s) and the scene's measured cost (meta.dem.cost_s)
+    decide no result: changing them keeps the key; a knob in meta.dem changes it."""
+    opts = dict(OPTS, timeout_s=100.0, cpu_limit_s=50.0)
+    k = key_of(scene, opts)
+    assert key_of(scene, dict(opts, timeout_s=900.0, cpu_limit_s=300.0)) == k == key_of(scene, OPTS)
+    d = json.loads(scene.read_text())
+    d.setdefault("meta", {})["dem"] = {"cost_s": 10.0}
+    k = C.key("la", d, opts)
+    d["meta"]["dem"] = {"cost_s": 426.0}
+    assert C.key("la", d, opts) == k
+    d["meta"]["dem"] = {"cost_s": 426.0, "knobs": {"eps": [1e-5]}}
+    assert C.key("la", d, opts) != k
+
+
 def test_failed_results_and_broken_files_never_hit(scene, tmp_path):
     """put_failed keeps the result outside the cache (get misses); a half-written entry is a miss."""
     cache = C.Cache(tmp_path / "cache")
