@@ -33,6 +33,11 @@ LMGC_SIDE = ("lmgc_main.py", "lmgc_model.py")
 #: each run gets copies in its work directory, so YADE sees the same relative paths from any clone
 YADE_SIDE = ("yade_main.py", "pushover.py", "yade_model.py", "yade_polyhedra.py", "yade_vertex.py")
 PROGRESS_TAG = "DEMPROGRESS "
+#: an engine that has used less than HANG_CPU_S of CPU over the last HANG_S seconds of wall clock is
+#: hung (a dead-locked or stopped process; a computing one, even on a crowded machine, uses far
+#: more), and is killed: run_job's ``hang_s``. The wall-clock limit stays the last guard.
+HANG_S = 600.0
+HANG_CPU_S = 1.0
 
 
 def find_yade(yade: str | None) -> str | None:
@@ -120,14 +125,15 @@ def _reader(stream, q):
 
 def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = None, progress=None,
             keep_dir: bool = False, script: Path | None = None, engine: str = "yade",
-            cpu_limit_s: float | None = None) -> dict:
+            cpu_limit_s: float | None = None, hang_s: float | None = HANG_S) -> dict:
     """Run ``job`` (see dem_validation.job) in YADE (``engine="yade"``) or LMGC90
     (``"lmgc90"``, the job with ``gravity``: :mod:`dem_validation.lmgc_main`); returns
     the engine side's result dict or a failed one. ``progress(dict)`` receives the
     progress records (alpha, step, ...). ``timeout_s``: wall-clock limit (None: no limit).
     ``cpu_limit_s``: limit of the engine's own CPU seconds (None: no limit), which unlike the
-    wall clock does not run out on a machine busy with other work; the wall-clock limit is then
-    only the guard against a hung engine."""
+    wall clock does not run out on a machine busy with other work. ``hang_s``: an engine that uses
+    less than HANG_CPU_S of CPU in that many seconds is killed as hung (None: never); the
+    wall-clock limit is the last guard."""
     if engine not in ENGINES:
         raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
     label = ENGINES[engine]
@@ -164,7 +170,7 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             q: queue.Queue = queue.Queue()
             th = threading.Thread(target=_reader, args=(proc.stdout, q), daemon=True)
             th.start()
-            limit = _pump(proc, q, progress, t0, timeout_s, cpu_limit_s)
+            limit = _pump(proc, q, progress, t0, timeout_s, cpu_limit_s, hang_s)
             th.join(timeout=5)
         elapsed = time.monotonic() - t0
         if limit is not None:
@@ -173,6 +179,9 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             if limit == "cpu":
                 return failed(f"used {cpu:.0f} s of CPU (CPU limit {cpu_limit_s:g} s) in {elapsed:.1f} s; "
                               f"{label} was killed", time_s=elapsed, **extra)
+            if limit == "hung":
+                return failed(f"hung: used less than {HANG_CPU_S:g} s of CPU in {hang_s:g} s of wall clock "
+                              f"({elapsed:.1f} s in all); {label} was killed", time_s=elapsed, **extra)
             return failed(f"timed out after {elapsed:.1f} s (time limit {timeout_s:g} s); {label} was killed",
                           time_s=elapsed, **extra)
         rc = proc.returncode
@@ -209,22 +218,30 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             shutil.rmtree(work, ignore_errors=True)
 
 
-def _pump(proc, q, progress, t0, timeout_s, cpu_limit_s=None) -> str | None:
-    """Forward progress lines until the engine exits; the limit it was killed for ("wall" or
-    "cpu", checked every 0.5 s), or None."""
+def _pump(proc, q, progress, t0, timeout_s, cpu_limit_s=None, hang_s=None) -> str | None:
+    """Forward progress lines until the engine exits; the limit it was killed for ("wall",
+    "cpu" or "hung", checked every 0.5 s), or None."""
     deadline = None if timeout_s is None else t0 + timeout_s
     next_cpu = time.monotonic()
+    ref_t, ref_cpu = next_cpu, 0.0  # the last time the engine's CPU had advanced by HANG_CPU_S
     while True:
         now = time.monotonic()
         left = None if deadline is None else deadline - now
         if left is not None and left <= 0:
             _kill(proc)
             return "wall"
-        if cpu_limit_s is not None and now >= next_cpu:
+        if (cpu_limit_s is not None or hang_s is not None) and now >= next_cpu:
             next_cpu = now + 0.5
-            if (process_cpu_s(proc.pid) or 0.0) >= cpu_limit_s:
-                _kill(proc)
-                return "cpu"
+            cpu = process_cpu_s(proc.pid)
+            if cpu is not None:
+                if cpu_limit_s is not None and cpu >= cpu_limit_s:
+                    _kill(proc)
+                    return "cpu"
+                if cpu - ref_cpu >= HANG_CPU_S:
+                    ref_t, ref_cpu = now, cpu
+                elif hang_s is not None and now - ref_t >= hang_s:
+                    _kill(proc)
+                    return "hung"
         try:
             line = q.get(timeout=0.5 if left is None else min(0.5, left))
         except queue.Empty:

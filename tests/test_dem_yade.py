@@ -346,6 +346,22 @@ def test_cpu_limit_counts_the_engines_own_cpu(tmp_path):
     assert res["status"] == "failed" and "timed out" in res["reason"] and res["cpu_s"] < 2.0
 
 
+def test_an_engine_that_uses_no_cpu_is_killed_as_hung(tmp_path):
+    """``hang_s``: an engine that waits (no CPU) is killed once it has used less than HANG_CPU_S of
+    CPU for hang_s seconds, long before the wall-clock limit; one that computes is not (it runs on
+    to its CPU limit)."""
+    from dem_validation import runner
+
+    idle = _fake_yade(tmp_path, "sleep 60 & wait")
+    t0 = time.monotonic()
+    res = run_job(_job(), yade=idle, timeout_s=60, hang_s=2.0)
+    assert time.monotonic() - t0 < 30
+    assert res["status"] == "failed" and res["reason"].startswith("hung") and res["cpu_s"] < runner.HANG_CPU_S
+    busy = _fake_yade(tmp_path, "while :; do :; done")
+    res = run_job(_job(), yade=busy, timeout_s=60, hang_s=2.0, cpu_limit_s=5.0)
+    assert res["status"] == "failed" and "CPU limit 5 s" in res["reason"] and res["cpu_s"] >= 5.0
+
+
 def test_validation_stages_limit_cpu_and_wall_clock():
     """reports.stages: the DEM and LMGC90 stages carry a CPU limit of at least DEM_CPU_LIMIT /
     LMGC_CPU_LIMIT and COST_FACTOR x the scene's measured cost, a wall-clock guard WALL_FACTOR
