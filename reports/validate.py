@@ -10,7 +10,8 @@ is written atomically as soon as it arrives; a failed stage is reported but not
 cached, so the next run tries it again (it is kept whole, with its histories,
 under the cache's failed/ folder for diagnosis). The results table goes to
 ``reports/out/results.csv`` and ``.parquet``, the report to
-``reports/out/index.html`` and ``index.md``.
+``reports/out/index.html`` and ``index.md``. The exit status is 1 when any stage failed
+(each is listed at the end), 0 otherwise.
 """
 from __future__ import annotations
 
@@ -231,7 +232,17 @@ def main(argv=None) -> int:
     print(f"validate: report {out / 'index.html'} ({len(df)} scenes, {len(failed)} with a failed stage"
           + (f", {lmgc_failed} LMGC90 runs failed" if with_lmgc else "") + f", {time.perf_counter() - t0:.0f} s)",
           file=sys.stderr)
-    return 0
+    bad = failures(done)
+    for name, stage, why in bad:
+        print(f"validate: FAILED {name} {stage}: {why}", file=sys.stderr)
+    return 1 if bad else 0
+
+
+def failures(done: dict) -> list[tuple[str, str, str]]:
+    """(scene, stage, reason) of every stage result in ``done`` ({(scene, stage): result}) with a
+    failed part, sorted: any makes ``make validate`` exit with status 1 (the report is written
+    all the same; a rerun tries only these again, the others come from the cache)."""
+    return sorted((name, stage, _reason(stage, res)) for (name, stage), res in done.items() if _failed(stage, res))
 
 
 if __name__ == "__main__":

@@ -35,8 +35,17 @@ def monkeypatch_module():
 
 
 def test_run_completes_and_writes_everything(run):
-    tmp, _, code = run
-    assert code == 0
+    """Every DEM stage failed (YADE missing): the run still writes everything, lists each failed
+    stage at the end and exits with status 1; without the DEM nothing failed, and the status is 0."""
+    tmp, args, code = run
+    assert code == 1
+    listed = re.findall(r"validate: FAILED (\S+) (\S+): (.*)", (tmp / "stderr.txt").read_text())
+    assert sorted((n, st) for n, st, _ in listed) == sorted((n, "dem") for n in SCENES)
+    assert all("not found" in why for _, _, why in listed)
+    again = list(args)
+    again[again.index("--out") + 1] = str(tmp / "out-no-dem")  # the other tests read the first report
+    with contextlib.redirect_stderr(io.StringIO()):
+        assert validate_main(again + ["--no-dem"]) == 0  # the LA stages come from the cache
     out = tmp / "out"
     for f in ("index.html", "index.md", "results.csv", "results.parquet", "figures/alpha.png",
               "figures/time_error.png", "figures/portal-2d.png", "vtk/portal-2d.vtk"):
@@ -163,7 +172,7 @@ def test_failure_copy_that_cannot_be_written_does_not_stop_the_run(tmp_path, mon
     monkeypatch.setenv("DEM_YADE", str(tmp_path / "no-such-yade"))
     code = validate_main(["--only", "block-rocking-2d", "--cache", str(tmp_path / "cache"), "--out",
                           str(tmp_path / "out"), "--jobs", "1", "--no-progress"])
-    assert code == 0
+    assert code == 1  # the DEM stage failed
     assert "full result not kept: No space left on device" in capsys.readouterr().err
     df = pd.read_csv(tmp_path / "out" / "results.csv")
     assert list(df.dem_status) == ["failed"] and list(df.lp_status) == ["optimal"]
