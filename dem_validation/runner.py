@@ -5,9 +5,8 @@ Each run gets its own temporary directory (job file, result file, the engine's
 stderr), its own process group, ``-j1`` (one OpenMP thread) and a wall-clock
 limit, so several runs at once do not collide. Every fault ends as a result
 dict with ``"status": "failed"`` and a one-line ``reason``: YADE missing,
-a non-zero exit or a signal, a time-out, a CPU limit or a hang (the whole process group is
-killed),
-a missing, unreadable or non-finite result file.
+a non-zero exit or a signal, a time-out, a CPU limit or a hang (the whole process
+group is killed), a missing, unreadable or non-finite result file.
 """
 from __future__ import annotations
 
