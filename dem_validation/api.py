@@ -102,7 +102,7 @@ def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep
 def assemble(raw: dict, p: dict) -> dict:
     """The ``dem`` dict from the YADE side's result (``{"status": "done"|"failed", "runs"}``)."""
     if raw.get("status") != "done":
-        return failed(raw.get("reason", "DEM run failed"), **_keep(raw, "steps_total", "cpu_s"))
+        return failed(raw.get("reason", "DEM run failed"), **_keep(raw, "steps_total", "cpu_s", "progress"))
     runs = raw.get("runs") or []
     history = [dict(h, eps=r["eps"]) for r in runs for h in r.get("history", [])]
     summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt",

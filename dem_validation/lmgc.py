@@ -47,7 +47,7 @@ def assemble_rigid(raw: dict) -> dict:
     if raw.get("status") == "skipped":
         return {"status": "skipped", "alpha": None, "reason": raw.get("reason", "")}
     if raw.get("status") != "done":
-        return failed(raw.get("reason", "LMGC90 run failed"), **{k: raw[k] for k in ("cpu_s",) if k in raw})
+        return failed(raw.get("reason", "LMGC90 run failed"), **{k: raw[k] for k in ("cpu_s", "progress") if k in raw})
     runs = raw.get("runs") or []
     if len(runs) != 1:
         return failed(f"the LMGC90 side returned {len(runs)} runs, expected 1")

@@ -38,6 +38,27 @@ PROGRESS_TAG = "DEMPROGRESS "
 #: more), and is killed: run_job's ``hang_s``. The wall-clock limit stays the last guard.
 HANG_S = 600.0
 HANG_CPU_S = 1.0
+#: progress records a failed run keeps for its diagnosis (``"progress"`` of the failed result):
+#: every one that starts a phase (e.g. a YADE run's new stiffness) and the last TRAIL_LAST
+TRAIL_LAST = 20
+
+
+class _Trail:
+    """The progress records of one run worth keeping when it fails (:data:`TRAIL_LAST`)."""
+
+    def __init__(self):
+        self.phases: list[dict] = []
+        self.last: list[dict] = []
+
+    def add(self, rec: dict) -> None:
+        if isinstance(rec, dict) and rec.get("phase") is not None and (
+                not self.phases or self.phases[-1].get("phase") != rec.get("phase")
+                or rec.get("phase") == "stiffness"):
+            self.phases.append(rec)
+        self.last = (self.last + [rec])[-TRAIL_LAST:]
+
+    def dump(self) -> dict:
+        return {"phases": self.phases, "last": self.last}
 
 
 def find_yade(yade: str | None) -> str | None:
@@ -170,12 +191,20 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             q: queue.Queue = queue.Queue()
             th = threading.Thread(target=_reader, args=(proc.stdout, q), daemon=True)
             th.start()
-            limit = _pump(proc, q, progress, t0, timeout_s, cpu_limit_s, hang_s)
+            trail = _Trail()
+
+            def forward(rec):
+                trail.add(rec)
+                if progress is not None:
+                    progress(rec)
+
+            limit = _pump(proc, q, forward, t0, timeout_s, cpu_limit_s, hang_s)
             th.join(timeout=5)
         elapsed = time.monotonic() - t0
         if limit is not None:
             cpu = getattr(proc, "cpu_at_kill", None)
             extra = {"cpu_s": cpu} if cpu is not None else {}
+            extra["progress"] = trail.dump()  # how far it got, for the diagnosis
             if limit == "cpu":
                 return failed(f"used {cpu:.0f} s of CPU (CPU limit {cpu_limit_s:g} s) in {elapsed:.1f} s; "
                               f"{label} was killed", time_s=elapsed, **extra)
@@ -198,7 +227,7 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
             else:
                 why = f"{label} exited without writing a result"
             last = _tail(work / "yade.err")
-            return failed(why + (f": {last}" if last else ""), time_s=elapsed)
+            return failed(why + (f": {last}" if last else ""), time_s=elapsed, progress=trail.dump())
         try:
             res = json.loads(result_path.read_text())
         except (OSError, ValueError) as exc:

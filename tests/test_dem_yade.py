@@ -362,6 +362,23 @@ def test_an_engine_that_uses_no_cpu_is_killed_as_hung(tmp_path):
     assert res["status"] == "failed" and "CPU limit 5 s" in res["reason"] and res["cpu_s"] >= 5.0
 
 
+def test_a_killed_run_keeps_its_progress_for_the_diagnosis(tmp_path):
+    """A run killed at its limit keeps the progress records it sent: each phase's first (every
+    new stiffness) and the last ones, in order, so that a report can say how far it got."""
+    recs = [{"phase": "stiffness", "eps": 1e-4}, {"phase": "load", "alpha": 0.1},
+            {"phase": "load", "alpha": 0.2}, {"phase": "stiffness", "eps": 1e-5}, {"phase": "load", "alpha": 0.3}]
+    lines = "; ".join(f"echo 'DEMPROGRESS {json.dumps(r)}'" for r in recs)
+    exe = _fake_yade(tmp_path, lines + "; while :; do :; done")
+    res = run_job(_job(), yade=exe, timeout_s=60, cpu_limit_s=1.0)
+    assert res["status"] == "failed" and "CPU limit" in res["reason"]
+    assert res["progress"]["last"] == recs
+    assert res["progress"]["phases"] == [recs[0], recs[1], recs[3], recs[4]]
+    from dem_validation.api import assemble
+    from dem_validation.lmgc import assemble_rigid
+
+    assert assemble(res, {})["progress"] == assemble_rigid(res)["progress"] == res["progress"]  # kept in the stage result
+
+
 def test_validation_stages_limit_cpu_and_wall_clock():
     """reports.stages: the DEM and LMGC90 stages carry a CPU limit of at least DEM_CPU_LIMIT /
     LMGC_CPU_LIMIT and COST_FACTOR x the scene's measured cost, a wall-clock guard WALL_FACTOR
