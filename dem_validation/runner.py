@@ -10,6 +10,7 @@ group is killed), a missing, unreadable or non-finite result file.
 """
 from __future__ import annotations
 
+import collections
 import json
 import math
 import os
@@ -48,17 +49,16 @@ class _Trail:
 
     def __init__(self):
         self.phases: list[dict] = []
-        self.last: list[dict] = []
+        self.last: collections.deque = collections.deque(maxlen=TRAIL_LAST)
 
     def add(self, rec: dict) -> None:
-        if isinstance(rec, dict) and rec.get("phase") is not None and (
-                not self.phases or self.phases[-1].get("phase") != rec.get("phase")
-                or rec.get("phase") == "stiffness"):
+        phase = rec.get("phase") if isinstance(rec, dict) else None
+        if phase is not None and (phase == "stiffness" or not self.phases or self.phases[-1]["phase"] != phase):
             self.phases.append(rec)
-        self.last = (self.last + [rec])[-TRAIL_LAST:]
+        self.last.append(rec)
 
     def dump(self) -> dict:
-        return {"phases": self.phases, "last": self.last}
+        return {"phases": self.phases, "last": list(self.last)}
 
 
 def find_yade(yade: str | None) -> str | None:
