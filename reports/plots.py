@@ -201,12 +201,18 @@ def alpha_chart(df, path) -> None:
 def time_error(df, path) -> None:
     """Run time against the error from the reference, per method (log-log)."""
     fig, ax = plt.subplots(figsize=(6.5, 4.6))
+    shown = 0
     for col_t, col_e, kind, lab in (("lp_time_s", "lp_err", "lp", "LP"), ("nlp_time_s", "nlp_err", "nlp", "NLP"),
                                     ("dem_time_s", "dem_err", "dem", "DEM")):
         t = df[col_t].astype(float)
         e = df[col_e].astype(float).abs()
         ok = np.isfinite(t) & np.isfinite(e) & (t > 0)
         ax.scatter(t[ok], np.maximum(e[ok], 1e-10), color=COLORS[kind], label=f"{lab} ({int(ok.sum())} scenes)")
+        shown += int(ok.sum())
+    if not shown:  # e.g. a run of scenes without a reference: log axes need a positive range
+        ax.set_xlim(1e-2, 1e4)
+        ax.set_ylim(1e-11, 1.0)
+        ax.text(0.5, 0.5, "no scene here has a reference alpha", transform=ax.transAxes, ha="center", fontsize=9)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.axhline(1e-10, color="#bbbbbb", lw=0.8, ls=":")

@@ -450,3 +450,15 @@ def test_lmgc_creep_is_a_held_trial_that_never_came_to_rest(tmp_path):
     assert row(path, la, None, lm(True, settled="speed"))["lmgc_creep"] is False
     assert row(path, la, None, lm(True, settled="level"))["lmgc_creep"] is True
     assert row(path, la, None, lm(False, settled=None))["lmgc_creep"] is True
+
+
+def test_time_error_figure_for_scenes_without_a_reference(tmp_path):
+    """A run of scenes that have no reference alpha (e.g. ``--only`` one paper wall) has no
+    point for the log-log figure; the report is still written (it raised "Data cannot be
+    log-scaled" and lost the whole report after the stages had run)."""
+    from reports import plots
+
+    cols = {f"{m}_{k}": [v] for m in ("lp", "nlp", "dem") for k, v in (("time_s", 12.0), ("err", float("nan")))}
+    path = tmp_path / "time_error.png"
+    plots.time_error(pd.DataFrame(cols), path)
+    assert path.stat().st_size > 0
