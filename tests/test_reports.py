@@ -42,6 +42,8 @@ def test_run_completes_and_writes_everything(run):
     listed = re.findall(r"validate: FAILED (\S+) (\S+): (.*)", (tmp / "stderr.txt").read_text())
     assert sorted((n, st) for n, st, _ in listed) == sorted((n, "dem") for n in SCENES)
     assert all("not found" in why for _, _, why in listed)
+    assert f"({len(SCENES)} scenes, {len(SCENES)} with a failed stage, {len(SCENES)} failed stages" in (
+        tmp / "stderr.txt").read_text()  # the summary counts what the exit status and the list say
     again = list(args)
     again[again.index("--out") + 1] = str(tmp / "out-no-dem")  # the other tests read the first report
     with contextlib.redirect_stderr(io.StringIO()):
