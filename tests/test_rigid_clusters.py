@@ -4,6 +4,8 @@ LP on every block dof (the second method), and against rigid-body motion.
 A rigid motion of blocks with velocities at their centroids c_i (2D: [ux, uy, rz]) has one
 rotation rate w and u_i - u_j = w x (c_i - c_j): ux_i - ux_j = -w (y_i - y_j),
 uy_i - uy_j = w (x_i - x_j). A stack that overturns as one about its base's toe is such a motion.
+The flow residuals are held to 1e-7 (Clarabel's interior point stops at 1e-9 of its scaled
+problem; the route's independent check allows 1e-6, limit/solve/verify.py).
 """
 import numpy as np
 import pytest
@@ -49,7 +51,7 @@ def test_a_stack_overturning_as_one_is_one_cluster_moving_rigidly():
     assert T.shape[1] == 3  # the three blocks are one cluster: three unknowns
     vh, lam, _ = rigid_clusters.kinematics(P, N.Gh, flows)
     res, fl = _flow_residual(P, N, flows, vh, lam)
-    assert res < 1e-12 and fl == pytest.approx(1.0, abs=1e-12) and (lam >= 0).all()
+    assert res < 1e-9 and fl == pytest.approx(1.0, abs=1e-9) and (lam >= 0).all()
     _, _, u, _ = N.unscale(N.join(0.0, np.zeros(P.model.n_x), vh, np.zeros(P.model.n_faces)))
     u = u.reshape(3, 3)
     c = np.array([P.scene.blocks[i].centroid for i in P.scene.free])
@@ -78,7 +80,7 @@ def test_feasible_exactly_where_the_flow_lp_on_every_dof_is(dim):
         agree.append((vh is not None) == full)
         if vh is not None:
             res, fl = _flow_residual(P, N, flows, vh, lam)
-            assert res < 1e-9 and fl == pytest.approx(1.0, abs=1e-9) and (lam >= 0).all()
+            assert res < 1e-7 and fl == pytest.approx(1.0, abs=1e-7) and (lam >= 0).all()
     assert all(agree)
     assert rigid_clusters.kinematics(P, N.Gh, sets[0])[0] is not None
 
@@ -97,4 +99,4 @@ def test_a_block_with_a_blocked_dof_keeps_its_own_unknowns():
         assert (vh is not None) == _full_kinematics(P, N, flows)
         if vh is not None:
             res, fl = _flow_residual(P, N, flows, vh, lam)
-            assert res < 1e-9 and fl == pytest.approx(1.0, abs=1e-9)
+            assert res < 1e-7 and fl == pytest.approx(1.0, abs=1e-7)

@@ -138,7 +138,7 @@ def clusters(P, flows: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
     return T, explicit
 
 
-def kinematics(P, Gh: sp.csr_matrix, flows: np.ndarray, backend: str = "highs",
+def kinematics(P, Gh: sp.csr_matrix, flows: np.ndarray, backend: str = "clarabel",
                time_limit: float | None = None) -> tuple[np.ndarray | None, np.ndarray | None, str]:
     """(vh (n_dof,), lamh on the flowing faces, status) of the mechanism that flows only on the
     faces ``flows`` (n_faces,) bool, or (None, None, status) when the LP has no solution (see the
@@ -158,4 +158,4 @@ def kinematics(P, Gh: sp.csr_matrix, flows: np.ndarray, backend: str = "highs",
                       time_limit=time_limit, almost=True)
     if not res.ok:
         return None, None, res.status
-    return T @ res.z[:n_w], res.z[n_w:], res.status
+    return T @ res.z[:n_w], np.maximum(res.z[n_w:], 0.0), res.status  # an interior point's -1e-13 clipped

@@ -145,10 +145,12 @@ SNAP_RULES_LARGE = ("ratio", "support")
 #: interior point solved and verified the support rule's in 1.2 s. When a backend proves every
 #: rule's piece LP infeasible (the flowing faces guessed wrong), the next is not asked.
 SNAP_BACKENDS = ("clarabel", "highs")
-#: LP backend of the snap's kinematics on rigid clusters (an exact vertex; at 10,050 2D blocks the
-#: kinematics on every block dof took Clarabel 18.5 s per snap, cProfile 2026-11-27, the clusters'
-#: LP 0.1-0.4 s at 1,008 and 3,052 blocks with the same verified points)
-KINEMATICS_BACKEND = "highs"
+#: LP backend of the snap's kinematics on rigid clusters. At 10,050 2D blocks the kinematics on
+#: every block dof took Clarabel 18.5 s per snap (cProfile, 2026-11-27); on the clusters it takes
+#: 0.1-1 s at 3,052 blocks. HiGHS is as fast on the small ones (3 to 90 cluster unknowns) but on
+#: the "support" rule's large flowing sets (7,000-8,000 faces, 900-1,800 cluster unknowns) it
+#: ended after 6-58 s with an unrecognised status where Clarabel solved in 0.4-1 s
+KINEMATICS_BACKEND = "clarabel"
 #: outer iterations (LPs) per start
 MAX_ITER = 100
 #: friction factors of the starts (1 = the associative LP itself)
@@ -252,7 +254,7 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     P = N.P
     flows = nlp.flowing_faces(N, z, rule)
     act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
-    # kinematics on the rigid clusters of blocks that the faces that do not flow leave (HiGHS: a small LP)
+    # kinematics on the rigid clusters of blocks that the faces that do not flow leave (a small LP)
     vh, lam_act, why = rigid_clusters.kinematics(P, N.Gh, flows, KINEMATICS_BACKEND, time_limit=left())
     if vh is None:
         return None, f"piece LP kinematics ({rule}): {why}"
