@@ -40,7 +40,9 @@ PROGRESS_TAG = "DEMPROGRESS "
 HANG_S = 600.0
 HANG_CPU_S = 1.0
 #: progress records a failed run keeps for its diagnosis (``"progress"`` of the failed result):
-#: every one that starts a phase (e.g. a YADE run's new stiffness) and the last TRAIL_LAST
+#: every one that starts a phase (e.g. a YADE run's new stiffness) and the one before it (the last of
+#: the phase before: a killed 70-stone wall's run kept four stiffnesses but not the alpha each had
+#: reached), and the last TRAIL_LAST
 TRAIL_LAST = 20
 
 
@@ -53,7 +55,9 @@ class _Trail:
 
     def add(self, rec: dict) -> None:
         phase = rec.get("phase") if isinstance(rec, dict) else None
-        if phase is not None and (phase == "stiffness" or not self.phases or self.phases[-1]["phase"] != phase):
+        if phase is not None and (phase == "stiffness" or not self.phases or self.phases[-1].get("phase") != phase):
+            if self.last and (not self.phases or self.last[-1] is not self.phases[-1]):
+                self.phases.append(self.last[-1])  # how far the phase before got (e.g. its last alpha)
             self.phases.append(rec)
         self.last.append(rec)
 

@@ -364,15 +364,18 @@ def test_an_engine_that_uses_no_cpu_is_killed_as_hung(tmp_path):
 
 def test_a_killed_run_keeps_its_progress_for_the_diagnosis(tmp_path):
     """A run killed at its limit keeps the progress records it sent: each phase's first (every
-    new stiffness) and the last ones, in order, so that a report can say how far it got."""
-    recs = [{"phase": "stiffness", "eps": 1e-4}, {"phase": "load", "alpha": 0.1},
-            {"phase": "load", "alpha": 0.2}, {"phase": "stiffness", "eps": 1e-5}, {"phase": "load", "alpha": 0.3}]
+    new stiffness), the one before it (how far the phase before got) and the last ones, in order,
+    so that a report can say how far it got."""
+    recs = [{"phase": "stiffness", "eps": 1e-4}, {"eps": 1e-4, "alpha": 0.05, "step": 10},
+            {"phase": "load", "alpha": 0.1}, {"eps": 1e-4, "alpha": 0.15, "step": 20},
+            {"eps": 1e-4, "alpha": 0.2, "step": 30}, {"phase": "stiffness", "eps": 1e-5},
+            {"phase": "load", "alpha": 0.3}]
     lines = "; ".join(f"echo 'DEMPROGRESS {json.dumps(r)}'" for r in recs)
     exe = _fake_yade(tmp_path, lines + "; while :; do :; done")
     res = run_job(_job(), yade=exe, timeout_s=60, cpu_limit_s=1.0)
     assert res["status"] == "failed" and "CPU limit" in res["reason"]
     assert res["progress"]["last"] == recs
-    assert res["progress"]["phases"] == [recs[0], recs[1], recs[3], recs[4]]
+    assert res["progress"]["phases"] == [recs[0], recs[1], recs[2], recs[4], recs[5], recs[6]]
     from dem_validation.api import assemble
     from dem_validation.lmgc import assemble_rigid
 
