@@ -230,3 +230,22 @@ def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(m
     seen, big = _forced_on_a_small_wall(monkeypatch, "VERY_LARGE_MIN_FREE", nlp, "finish", "rules")
     assert seen and all(r == ("ratio", "support") for r in seen)
     assert [r["start"] for r in big["starts"]] == ["lp-mu*0.5", "lp-mu*0.4"]
+
+
+def test_a_verified_start_gives_the_others_a_quarter_of_its_time_then_stops_them():
+    """_Stop: a start that verifies t seconds into the route sets the stop time t0 + t (1 + GRACE);
+    a start past it ends at its next LP, unverified, and says why (never a number)."""
+    import time
+
+    P, sol = _solved(B.running_bond_wall(4, 4, dim=2, L=0.4, H=0.3, mu=0.9))
+    N = step2_large.build(P)
+    t0 = time.perf_counter()
+    stop = step2_large._Stop(t0 - 8.0)
+    stop.verified(t0)  # verified 8 s into the route: the others stop 2 s later
+    assert stop.at() == pytest.approx(t0 + 2.0, abs=1e-9) and step2_large.GRACE == 0.25
+    stop.verified(t0 + 100.0)  # a later one never moves it back
+    assert stop.at() == pytest.approx(t0 + 2.0, abs=1e-9)
+    stop.value.value = time.perf_counter() - 1.0
+    r = step2_large.run_start(P, N, step2_large.start_nstar(P, sol, 0.5), sol.alpha, stop=stop)
+    assert not r["verified"] and r["z"] is None and r["iterations"] == 1
+    assert r["reason"].startswith("stopped: another start had verified")

@@ -172,9 +172,15 @@ ONE_ROUND_MIN_FREE = 2000
 #: without; a 3D wall of 3,024 blocks did worse with it (with 1e-7 near a collapse state too:
 #: 0.527463 by one start at the 600 s budget, against 0.525052 in 204 s without either)
 WARM_START_DIMS = (2,)
-#: (tried and not kept: stopping the other starts 25 % of its time after the first one verified;
-#: the 3D wall of 3,024 blocks then kept the 0.530657 of the start that verified first, 130 s, and
-#: lost the 0.525052 that the other reaches at about 200 s)
+#: once a start has verified at t (s from the route's start), the others stop at t x (1 + GRACE):
+#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS only. In 2D every start that verified
+#: gave the same alpha (10,050 blocks: 0.335865 from both starts in each of four runs with both
+#: verified; 3,052 blocks: 0.337984; 1,008 blocks: 0.341463 from all three), and the slower start
+#: holds the route: 10,050 blocks (2026-11-27) 0.4 mu verified at 218 s, 0.5 mu at 319 s, the route
+#: 337 s. Not in 3D: there the starts' alphas differ, and stopping the other starts 25 % of its time
+#: after the first one verified kept the 3,024-block wall's 0.530657 (the start that verified first,
+#: 130 s) and lost the 0.525052 that the other reaches at about 200 s
+GRACE = 0.25
 
 
 def _free_blocks(P) -> int:
@@ -278,11 +284,16 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     return N.join(st.z[0], st.z[1:], vh, lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces"
 
 
-def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend=None) -> dict:
+def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend=None, stop=None) -> dict:
     """One start: iterate, check each LP point, snap near complementarity (with the LP
-    ``backend`` of :mod:`limit.solve.lpsub`, default each of :data:`SNAP_BACKENDS` in turn). Returns
+    ``backend`` of :mod:`limit.solve.lpsub`, default each of :data:`SNAP_BACKENDS` in turn). ``stop``
+    (a :class:`_Stop`, None: none): the time another start set for every start to stop (it ends
+    this one like its deadline), which this one sets in turn when it verifies. Returns
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
     t0 = time.perf_counter()
+
+    def until():
+        return deadline if stop is None else min(deadline if deadline is not None else np.inf, stop.at())
     backends = SNAP_BACKENDS if backend is None else (backend,)
     found: dict = {}
     snaps = [0]
@@ -300,7 +311,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             proven = []  # piece LPs this backend proved infeasible (no other backend can do better)
 
             def polisher(N_, z_, rule="ratio", backend="highs"):
-                zp, why = snap(N_, z_, rule, backend, deadline)
+                end = until()
+                zp, why = snap(N_, z_, rule, backend, None if end is None or not np.isfinite(end) else end)
                 if zp is None and "infeasible" in why.lower():
                     proven.append(rule)
                 return zp, why
@@ -335,7 +347,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             if try_snap(z, comp, it):
                 return True
             retry_below[0] = comp / 10.0
-        return deadline is not None and time.perf_counter() > deadline
+        end = until()
+        return end is not None and time.perf_counter() > end
 
     out = iterative_lp.solve(P, None, omega=lambda: relax["omega"], tol=1e-10, max_iter=max_iter, backend="ipm",
                              nstar0=nstar0, on_iterate=on_iterate,
@@ -345,13 +358,34 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
     if found:
+        if stop is not None:
+            stop.verified(time.perf_counter())
         return {**rec, "verified": True, "alpha": float(found["z"][N.ia]), "z": found["z"], "how": found["how"]}
     if stalled:
         why = (f"stalled: the complementarity residual had no new low ({relax['best']:.1e}) for {STALL} LPs "
                f"at the smallest relaxation {OMEGA_MIN:g}")
+    elif stop is not None and time.perf_counter() > stop.at() and (deadline is None or stop.at() < deadline):
+        why = f"stopped: another start had verified ({GRACE:.0%} of its time given to the others)"
     else:
         why = out.get("reason") or ("time budget spent" if out["status"] == "stopped" else out["status"])
     return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
+
+
+class _Stop:
+    """The time (time.perf_counter(), shared by the starts' processes) at which every start stops:
+    infinite until a start verifies at t, then t0 + (t - t0) (1 + GRACE) with t0 the route's start
+    (:data:`GRACE`). ``value``: a multiprocessing.Value("d") for starts in worker processes (created
+    before they fork), else a plain holder."""
+
+    def __init__(self, t0: float, value=None):
+        self.t0 = t0
+        self.value = value if value is not None else type("Holder", (), {"value": np.inf})()
+
+    def at(self) -> float:
+        return float(self.value.value)
+
+    def verified(self, t: float) -> None:
+        self.value.value = min(self.at(), self.t0 + (t - self.t0) * (1.0 + GRACE))
 
 
 def _not_run(why: str) -> dict:
@@ -365,24 +399,41 @@ def _start_job(args) -> dict:
     iteration. ``deadline``: absolute time.perf_counter() (CLOCK_MONOTONIC on Linux: the same
     clock in every process), so a start that waited for a free worker gets only what is left
     of the run's budget. ``N``: the problem built already (None in a worker: built there)."""
-    P, lp_sol, start, alpha_ref, deadline, N = args
+    P, lp_sol, start, alpha_ref, deadline, N, stop = args
+    if stop is None and _SHARED_STOP is not None:  # a worker process: the route's shared stop time
+        stop = _SHARED_STOP
     if deadline is not None and time.perf_counter() > deadline:
         return _not_run("time budget spent")
+    if stop is not None and time.perf_counter() > stop.at():
+        return _not_run("another start had verified")
     nstar0 = start_nstar(P, lp_sol, start) if isinstance(start, float) else start
     if nstar0 is None:
         return _not_run(f"the associative LP at mu x {start:g} has no optimum")
-    return run_start(P, build(P) if N is None else N, nstar0, alpha_ref, deadline=deadline)
+    return run_start(P, build(P) if N is None else N, nstar0, alpha_ref, deadline=deadline, stop=stop)
 
 
-def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers) -> list | None:
+#: the route's stop time in a worker process (set by _init_worker when the pool forks)
+_SHARED_STOP = None
+
+
+def _init_worker(stop) -> None:
+    global _SHARED_STOP
+    _SHARED_STOP = stop
+
+
+def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None) -> list | None:
     """Every start at once in ``workers`` processes; None when processes cannot be started
-    here (e.g. inside a daemonic worker): the caller then runs them one after another."""
+    here (e.g. inside a daemonic worker): the caller then runs them one after another. ``t0``
+    (None: the starts do not stop each other): the route's start, for the shared :class:`_Stop`."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
 
+    ctx = mp.get_context("fork")
     try:
-        with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork")) as ex:
-            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None) for _, s in plan]))
+        stop = None if t0 is None else _Stop(t0, ctx.Value("d", np.inf))
+        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                 initargs=(stop,)) as ex:
+            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None, None) for _, s in plan]))
     except (OSError, AssertionError, RuntimeError):
         return None
 
@@ -412,16 +463,18 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
         return {"ok": False, "reason": "no start: the dead load alone has no equilibrium", "starts": [],
                 "time_s": time.perf_counter() - t0, "N": N, "workers": 0}
     workers = min(len(plan), cores)
+    grace = _very_large(P)  # the starts stop GRACE after the first verified one (2D, very large)
     results = None
     if workers > 1:
-        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers)
+        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0 if grace else None)
     if results is None:
         workers, results = 1, []
+        stop = _Stop(t0) if grace else None
         for label, start in plan:
             if deadline is not None and any(r["verified"] for r in results) and time.perf_counter() > deadline:
                 results.append(_not_run("time budget spent"))
                 continue
-            results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N)))
+            results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N, stop)))
     runs, best = [], None
     for (label, _), r in zip(plan, results):
         runs.append({"start": label, **{k: v for k, v in r.items() if k != "z"}})
