@@ -58,7 +58,8 @@ of a start changes with rounding-level changes of the LPs (41 to 53 at 0.5 mu, 3
 With the snap's kinematics on rigid clusters (same machine, same day): 337 s, both verified 0.335865
 (0.5 mu 319 s, 53 LPs; 0.4 mu 218 s, 34 LPs); the 0.4 mu start alone with YADE on the other core
 (cProfile) 269 s against 304 s before, the same 41 LPs, its snaps 57 s against 76 s. With
-:data:`GRACE` as well: 279 s (0.4 mu verified 0.335865 at 207 s, 34 LPs; 0.5 mu stopped at 260 s).
+:data:`GRACE` as well, two runs: 279 and 296 s (0.4 mu verified 0.335865 at 207 and 218 s, 34 LPs;
+0.5 mu stopped at 260 and 277 s).
 There, 3D 3,024 blocks: both starts verified, best 0.526630 (0.5 mu, 323 s), worst 0.527754 (the
 LP's start, 87 LPs), 453 s. 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
