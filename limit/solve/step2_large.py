@@ -297,8 +297,9 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
     t0 = time.perf_counter()
 
-    def until():
-        return deadline if stop is None else min(deadline if deadline is not None else np.inf, stop.at())
+    def until():  # the earlier of the deadline and the shared stop time; None: neither
+        ends = [t for t in (deadline, None if stop is None else stop.at()) if t is not None and np.isfinite(t)]
+        return min(ends, default=None)
     backends = SNAP_BACKENDS if backend is None else (backend,)
     found: dict = {}
     snaps = [0]
@@ -316,8 +317,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             proven = []  # piece LPs this backend proved infeasible (no other backend can do better)
 
             def polisher(N_, z_, rule="ratio", backend="highs"):
-                end = until()
-                zp, why = snap(N_, z_, rule, backend, None if end is None or not np.isfinite(end) else end)
+                zp, why = snap(N_, z_, rule, backend, until())
                 if zp is None and "infeasible" in why.lower():
                     proven.append(rule)
                 return zp, why
