@@ -10,7 +10,9 @@ failure.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
+import time
 
 from . import params as P
 from .lmgc_main import KNOBS as LMGC_KNOBS
@@ -48,6 +50,26 @@ def _knobs(args) -> dict:
             raise ValueError(f"--set {item!r}: expected KNOB=VALUE")
         knobs[key.strip()] = float(value)
     return knobs
+
+
+#: the terminal shows a YADE step line at most every this many seconds (the engine sends one
+#: every 1000 steps: by step count, so that its runs do not depend on the clock)
+SHOW_EVERY_S = 2.0
+
+
+class _Progress:
+    """Prints progress records on stderr; YADE's step lines at most every ``every`` s."""
+
+    def __init__(self, every=SHOW_EVERY_S):
+        self.every, self.shown = every, -math.inf
+
+    def __call__(self, info):
+        if "step" in info and "outcome" not in info:
+            now = time.monotonic()
+            if now - self.shown < self.every:
+                return
+            self.shown = now
+        _progress(info)
 
 
 def _progress(info):
@@ -109,7 +131,7 @@ def cmd_run(args) -> int:
         return 2
     scene = load_scene(args.scene)
     I = find_interfaces(scene)
-    progress = None if args.quiet else _progress
+    progress = None if args.quiet else _Progress()
     if args.engine == "lmgc90":
         dem = run_loaded_lmgc90(scene, p, timeout_s=args.timeout, progress=progress, interfaces=I)
     else:

@@ -55,15 +55,18 @@ RECHECK_TRIES = 3
 
 
 class Clock:
-    """Progress reporting at most every ``period`` seconds through ``emit(dict)``."""
+    """Progress reporting through ``emit(dict)`` every ``period`` steps (a step count, not the
+    wall clock, so that every run of a job makes the same calls)."""
 
-    def __init__(self, emit, period=2.0):
-        self.emit, self.period, self.last = emit, period, time.monotonic()
+    def __init__(self, emit, period=1000):
+        self.emit, self.period, self.last = emit, period, 0
 
     def tick(self, **info):
-        now = time.monotonic()
-        if self.emit is not None and now - self.last >= self.period:
-            self.last = now
+        step = int(info.get("step", 0))
+        if step < self.last:  # a new search counts from 0
+            self.last = step
+        if self.emit is not None and step - self.last >= self.period:
+            self.last = step
             self.emit(info)
 
 
