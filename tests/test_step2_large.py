@@ -126,7 +126,7 @@ def test_a_residual_that_stops_falling_is_snapped_from_its_best_iterate(monkeypa
     assert all(z is seen[1] for _, z in snapped)
 
 
-@pytest.mark.parametrize("backend", ["highs", "clarabel"])
+@pytest.mark.parametrize("backend", ["highs", "clarabel", "ipm"])
 def test_a_snap_past_its_deadline_fails_and_gives_no_point(backend):
     """The start's deadline reaches into the snap's LPs: past it, each backend is stopped
     (told a time limit of zero or less) and the snap is a failure, never a point."""
@@ -138,6 +138,8 @@ def test_a_snap_past_its_deadline_fails_and_gives_no_point(backend):
     N = step2_large.build(P)
     z, why = step2_large.snap(N, nlp_starts.lp_start(N, sol), "support", backend, deadline=time.perf_counter() - 1.0)
     assert z is None and "time limit" in why
+    if backend == "ipm":  # the statics of limit/solve/piece_statics.py: no LP front end
+        return
     res = lpsub.solve([1.0], None, None, None, None, [0.0], [1.0], backend, time_limit=0.0)
     assert not res.ok and res.z is None
 
@@ -152,6 +154,20 @@ def test_large_walls_run_one_round_of_starts(monkeypatch):
     monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 10 ** 6)
     out = step2_large.solve(P, sol, workers=1)
     assert [r["start"] for r in out["starts"]] == ["lp", "lp-mu*0.5", "lp-mu*0.25"] and out["ok"]
+
+
+def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
+    """In 3D, from ONE_ROUND_MIN_FREE free blocks on, the one round's starts are the LPs at 0.5 mu
+    and 0.25 mu (START_FACTORS_ONE_ROUND_3D: the associative LP's own start measured slowest
+    and not lowest there); 2D keeps the LP's own start first."""
+    seen = []
+    monkeypatch.setattr(step2_large, "_run_parallel", lambda P, lp_sol, plan, *a, **k: seen.append(
+        [lab for lab, _ in plan]) or [step2_large._not_run("spied")] * len(plan))
+    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 5)
+    for dim in (3, 2):
+        P, sol = _solved(B.running_bond_wall(3, 3, dim=dim, mu=0.9))
+        step2_large.solve(P, sol, workers=2)
+    assert seen == [["lp-mu*0.5", "lp-mu*0.25"], ["lp", "lp-mu*0.5"]]
 
 
 def test_large_scenes_take_the_large_route(monkeypatch):

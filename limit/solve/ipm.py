@@ -377,7 +377,7 @@ class Structure:
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
           tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None,
           warm: dict | None = None, q: np.ndarray | None = None, x_ref: np.ndarray | None = None,
-          correctors: int = MCC, structure: Structure | None = None) -> dict:
+          correctors: int = MCC, structure: Structure | None = None, mu_diverged: float | None = None) -> dict:
     """Static LP by the structured interior point method (see :func:`_solve`).
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
@@ -388,11 +388,12 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref, correctors, structure)
+        return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref, correctors, structure,
+                      mu_diverged)
 
 
 def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None, q=None, x_ref=None,
-           correctors=MCC, structure=None) -> dict:
+           correctors=MCC, structure=None, mu_diverged=None) -> dict:
     """Static LP by the structured interior point method.
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
@@ -408,6 +409,9 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     On an LP whose optimal face is not one point they change which point of it is returned (the
     correctors centre less): the iterative LP asks for none (iterative_lp.ITERATIVE_CORRECTORS).
     ``structure``: a :class:`Structure` of these Eh, Yh and x_group, built once for many solves.
+    ``mu_diverged`` (None: never): stop, failed, once the mean complementarity s.z exceeds this x
+    its first value. On an infeasible LP it grows without bound (a snap's piece of 3,024 2D
+    blocks: 1 to 4e6 in 9 iterations, then about 1e9 to iteration 60), where a feasible one's falls.
     """
     t0 = time.perf_counter()
     if structure is None:
@@ -435,6 +439,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     t_fact = 0.0
     status, reason = "failed", f"not converged in {max_iter} iterations"
     it = 0
+    mu0 = None
     for it in range(1, max_iter + 1):
         rd = EhT @ y + YhT @ z
         if q is not None:
@@ -454,6 +459,10 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
             break
         if not np.all(np.isfinite([a, mu, res_p, res_d])):
             reason = "the iterates are no longer finite"
+            break
+        mu0 = mu if mu0 is None else mu0
+        if mu_diverged is not None and mu > mu_diverged * max(mu0, 1e-300):
+            reason = f"mu grew from {mu0:.1e} to {mu:.1e} in {it} iterations: probably no feasible point"
             break
         if abs(a) > ALPHA_DIVERGED:
             reason = f"alpha diverges ({a:.3g}): no collapse mechanism under this live load?"

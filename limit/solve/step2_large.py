@@ -72,7 +72,7 @@ import time
 
 import numpy as np
 
-from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, rigid_clusters
+from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, piece_statics, rigid_clusters
 from limit.solve.nlp_problem import build
 
 #: relaxation of N* per dimension (see the module docstring), halved (down to OMEGA_MIN) each time
@@ -148,8 +148,12 @@ SNAP_RULES_LARGE = ("ratio", "support")
 #: LP backends of the snap's piece LPs, tried in turn until one gives a point that passes the
 #: check: at 3,052 blocks HiGHS failed both piece LPs ("Not Set", 25-35 s each) where Clarabel's
 #: interior point solved and verified the support rule's in 1.2 s. When a backend proves every
-#: rule's piece LP infeasible (the flowing faces guessed wrong), the next is not asked.
-SNAP_BACKENDS = ("clarabel", "highs")
+#: rule's piece LP infeasible (the flowing faces guessed wrong), the next is not asked. "ipm": the
+#: statics on the structured interior point method (:mod:`limit.solve.piece_statics`), which
+#: proves nothing infeasible (it stops when its iterates diverge). On saved iterates of the
+#: 3,052-block 2D wall (2026-11-27, the other core busy) it gave Clarabel's alpha to 1e-11 in
+#: 1.6-2.1 s against 2.5-4.3 s, and in 0.2-0.4 s gave up on pieces Clarabel proved infeasible
+SNAP_BACKENDS = ("ipm", "clarabel", "highs")
 #: LP backend of the snap's kinematics on rigid clusters. At 10,050 2D blocks the kinematics on
 #: every block dof took Clarabel 18.5 s per snap (cProfile, 2026-11-27); on the clusters it takes
 #: 0.1-1 s at 3,052 blocks. HiGHS is as fast on the small ones (3 to 90 cluster unknowns) but on
@@ -166,6 +170,11 @@ START_FACTORS = (1.0, 0.5, 0.25)
 #: 4.7e-3 and 1.1e-2. The associative LP's own start never verified there in four runs (stalled
 #: at 8.4e-3 and 9.3e-3, or 600 s spent): beside 0.5 it held its core to the end of the budget
 START_FACTORS_LARGE = (0.5, 0.4)
+#: ... and from ONE_ROUND_MIN_FREE free blocks on in 3D, where the associative LP's own start was
+#: the slowest and not the lowest (running-bond walls, mu 0.9, 2026-11-27): 1,017 blocks, the LP's
+#: start 0.560176 in 67 LPs, 0.5 mu 0.553388 in 34, 0.25 mu 0.552063 in 31; 3,024 blocks, the LP's
+#: 0.527754 in 87 LPs (428 s), 0.5 mu 0.526630 in 44, 0.25 mu 0.525765 in 52
+START_FACTORS_ONE_ROUND_3D = (0.5, 0.25, 1.0)
 #: from this many free blocks on, only as many starts as there are workers (the first factors):
 #: a start that waits for a core never gets one within the budget (10,050 blocks, 2 cores: the
 #: third start did not begin in 600 s); at 3,052 blocks all three starts verified the same alpha
@@ -271,6 +280,14 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
         return None, f"piece LP kinematics ({rule}): {why}"
     lamh = np.zeros(P.model.n_faces)
     lamh[act] = lam_act
+    if backend == "ipm":  # the statics on the structured interior point method
+        t = left()
+        if t is not None and t <= 0:
+            return None, f"piece LP statics ({rule}): time limit reached before the LP"
+        alpha, xh, why = piece_statics.solve(P, flows)
+        if alpha is None:
+            return None, f"piece LP statics ({rule}): {why}"
+        return N.join(alpha, xh, vh, lamh), f"piece LP ({rule}, in two parts; statics {why}) with {act.size} flowing faces"
     nx = P.model.n_x
     # statics: [alpha, xh]
     col = sp.csr_matrix(P.fLh.reshape(-1, 1))
@@ -457,7 +474,8 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     alpha_ref = lp_sol.alpha if optimal else np.inf
     cores = workers or os.cpu_count() or 1
     if factors is None:
-        factors = START_FACTORS_LARGE if _very_large(P) else START_FACTORS
+        factors = (START_FACTORS_LARGE if _very_large(P) else
+                   START_FACTORS_ONE_ROUND_3D if _one_round(P) and P.scene.dim == 3 else START_FACTORS)
     if optimal:  # (label, friction factor): each start's LP is solved by the start itself
         if _one_round(P):
             factors = tuple(factors)[:max(1, cores)]
