@@ -245,3 +245,25 @@ def test_proximal_qp_against_clarabel(dim):
     assert got["alpha"] < lp["alpha"] - 1e-6  # the pull toward x_ref costs alpha here
     same = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, q=q, x_ref=lp["xh"])
     assert same["status"] == "optimal" and same["alpha"] == pytest.approx(lp["alpha"], abs=1e-7)
+
+
+def test_an_infeasible_lp_stops_once_mu_diverges():
+    """A block on its base whose yield rows are shifted out of reach (c = -1 on every face: each
+    face at least 1, scaled, inside its yield value, a margin that its weight's normal force
+    cannot give): no feasible point. With mu_diverged the method stops within a few iterations and says so;
+    without it, it runs to max_iter. Clarabel (the second method) proves it infeasible."""
+    from limit.solve import lpsub
+    import scipy.sparse as sp
+
+    P = assemble(load_scene(B.single_block(dim=2, b=0.3, h=1.0, mu=0.6)))
+    c = -np.ones(P.Yh.shape[0])
+    args = (P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface)
+    fast = ipm.solve(*args, c=c, max_iter=100, mu_diverged=1e6)
+    assert fast["status"] == "failed" and "no feasible point" in fast["reason"] and fast["iterations"] < 40
+    slow = ipm.solve(*args, c=c, max_iter=100)
+    assert slow["status"] == "failed" and slow["iterations"] > fast["iterations"]
+    nx = P.model.n_x
+    A = sp.hstack([sp.csr_matrix(P.fLh.reshape(-1, 1)), P.Eh]).tocsr()
+    ref = lpsub.solve(np.r_[-1.0, np.zeros(nx)], A, -P.f0h, sp.hstack([sp.csr_matrix((len(c), 1)), P.Yh]).tocsr(), c,
+                      np.full(nx + 1, -np.inf), np.full(nx + 1, np.inf), "clarabel")
+    assert not ref.ok and "Infeasible" in ref.status
