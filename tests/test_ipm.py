@@ -267,3 +267,17 @@ def test_an_infeasible_lp_stops_once_mu_diverges():
     ref = lpsub.solve(np.r_[-1.0, np.zeros(nx)], A, -P.f0h, sp.hstack([sp.csr_matrix((len(c), 1)), P.Yh]).tocsr(), c,
                       np.full(nx + 1, -np.inf), np.full(nx + 1, np.inf), "clarabel")
     assert not ref.ok and "Infeasible" in ref.status
+
+
+def test_almost_returns_the_best_iterate_of_an_unfinished_solve():
+    """Stopped after 4 iterations (far from tol): without ``almost`` the solve fails; with an
+    ``almost`` above its residual it returns status "almost" and the iterate of lowest residual,
+    which is then no worse than the last one (Clarabel's alpha is the reference for both)."""
+    P = assemble(load_scene(B.running_bond_wall(3, 3, dim=2, mu=0.9)))
+    args = (P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface)
+    ref, _, _ = solve_lp(P, "clarabel", fallback=False)
+    bare = ipm.solve(*args, max_iter=4)
+    kept = ipm.solve(*args, max_iter=4, almost=10.0)
+    assert bare["status"] == "failed" and kept["status"] == "almost" and "best iterate" in kept["reason"]
+    assert abs(kept["alpha"] - ref.alpha) <= abs(bare["alpha"] - ref.alpha) + 1e-12
+    assert ipm.solve(*args, max_iter=4, almost=1e-12)["status"] == "failed"  # residual above almost

@@ -156,6 +156,21 @@ def test_large_walls_run_one_round_of_starts(monkeypatch):
     assert [r["start"] for r in out["starts"]] == ["lp", "lp-mu*0.5", "lp-mu*0.25"] and out["ok"]
 
 
+def test_a_3d_wall_whose_lp_stalls_near_its_optimum_still_verifies(monkeypatch):
+    """A 4 x 3 running-bond 3D wall (mu 0.7) slides as one on its base: H = mu W, alpha = mu
+    (the associative LP gives the same 0.7, an upper bound). Its fourth iterative LP stalls at
+    residuals of 1e-8 to 8e-7 short of 1e-9; with the interior point's best iterate taken
+    (iterative_lp.ITERATIVE_ALMOST) every start verifies mu, without it every start failed."""
+    from limit.solve import iterative_lp
+
+    P, sol = _solved(B.running_bond_wall(4, 3, dim=3, mu=0.7))
+    out = step2_large.solve(P, sol, workers=1)
+    assert out["ok"] and out["n_verified"] == 3 and out["alpha"] == pytest.approx(0.7, abs=1e-9)
+    monkeypatch.setattr(iterative_lp, "ITERATIVE_ALMOST", None)
+    out = step2_large.solve(P, sol, workers=1)
+    assert not out["ok"] and "not converged" in out["reason"]
+
+
 def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
     """In 3D, from ONE_ROUND_MIN_FREE free blocks on, the one round's starts are the LPs at 0.5 mu
     and 0.25 mu (START_FACTORS_ONE_ROUND_3D: the associative LP's own start measured slowest

@@ -69,6 +69,9 @@ MCC_GAMMA = 0.1
 #: a 3,052-block 2D wall (tolerance 1e-4, cold 31-40 iterations): 0.001 failed, 0.01 took 50-70
 #: iterations, 0.1 25-33, 0.2 to 1 21-34
 WARM_SHIFT = 1.0
+#: ``almost`` (see :func:`_solve`): the method is taken as stalled once its largest relative
+#: residual (primal, dual, gap) has had no new low for this many iterations
+ALMOST_STALL = 30
 #: a Newton step whose residual is below this (scaled units) is not refined. (Tried and not kept,
 #: 2026-11-27: stopping at 1e-3 x the solve's tolerance, which made an iterative LP of 3,052 2D
 #: blocks at tol 1e-4 19 % faster with the same 31 iterations; but the 10,050-block route's 0.4 mu
@@ -377,7 +380,8 @@ class Structure:
 def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray, x_group: np.ndarray,
           tol: float = 1e-9, max_iter: int = 200, verbose: bool = False, c: np.ndarray | None = None,
           warm: dict | None = None, q: np.ndarray | None = None, x_ref: np.ndarray | None = None,
-          correctors: int = MCC, structure: Structure | None = None, mu_diverged: float | None = None) -> dict:
+          correctors: int = MCC, structure: Structure | None = None, mu_diverged: float | None = None,
+          almost: float | None = None) -> dict:
     """Static LP by the structured interior point method (see :func:`_solve`).
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
@@ -389,11 +393,11 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
 
     with threadpool_limits(limits=1, user_api="blas"):
         return _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c, warm, q, x_ref, correctors, structure,
-                      mu_diverged)
+                      mu_diverged, almost)
 
 
 def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None, q=None, x_ref=None,
-           correctors=MCC, structure=None, mu_diverged=None) -> dict:
+           correctors=MCC, structure=None, mu_diverged=None, almost=None) -> dict:
     """Static LP by the structured interior point method.
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
@@ -412,6 +416,11 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     ``mu_diverged`` (None: never): stop, failed, once the mean complementarity s.z exceeds this x
     its first value. On an infeasible LP it grows without bound (a snap's piece of 3,024 2D
     blocks: 1 to 4e6 in 9 iterations, then about 1e9 to iteration 60), where a feasible one's falls.
+    ``almost`` (None: never): when the method stalls (:data:`ALMOST_STALL`) or runs out of
+    iterations, its best iterate (lowest largest relative residual) is returned with status
+    "almost" if that residual is at most ``almost``. Near a degenerate optimum the residuals can
+    stop falling short of ``tol``: a 12-block 3D wall's iterative LP reached 3e-8 at iteration 10
+    and then wandered between 1e-8 and 8e-7 for 190 iterations.
     """
     t0 = time.perf_counter()
     if structure is None:
@@ -440,7 +449,9 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     status, reason = "failed", f"not converged in {max_iter} iterations"
     it = 0
     mu0 = None
-    for it in range(1, max_iter + 1):
+    best = {"err": np.inf, "it": 0}
+    # with ``almost``, one more pass evaluates the last step's point (and takes no step)
+    for it in range(1, max_iter + 1 + (almost is not None)):
         rd = EhT @ y + YhT @ z
         if q is not None:
             rd = rd + q * (x - x_ref)
@@ -457,6 +468,15 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         if res_p <= tol and res_d <= tol and gap <= tol:
             status, reason = "optimal", ""
             break
+        if almost is not None:
+            err = max(res_p, res_d, gap)
+            if err < best["err"]:
+                best.update(err=err, it=it, x=x.copy(), a=a, s=s.copy(), z=z.copy(), y=y.copy())
+            elif it - best["it"] >= ALMOST_STALL and best["err"] <= almost:
+                reason = f"stalled: no new low of the residuals for {ALMOST_STALL} iterations"
+                break
+            if it > max_iter:
+                break
         if not np.all(np.isfinite([a, mu, res_p, res_d])):
             reason = "the iterates are no longer finite"
             break
@@ -499,5 +519,9 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         s += ap * ds
         y += ad * dy
         z += ad * dz
-    return {"status": status, "reason": reason, "alpha": a, "xh": x, "vh": y, "lamh": z, "s": s, "iterations": it,
+    if status != "optimal" and almost is not None and best["err"] <= almost:
+        status, reason = "almost", f"{reason}; the best iterate ({best['it']}), residual {best['err']:.1e}, returned"
+        x, a, s, z, y = best["x"], best["a"], best["s"], best["z"], best["y"]
+    return {"status": status, "reason": reason, "alpha": a, "xh": x, "vh": y, "lamh": z, "s": s,
+            "iterations": min(it, max_iter),
             "setup_s": t_setup, "factor_s": t_fact, "solve_s": time.perf_counter() - t0}
