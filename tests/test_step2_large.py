@@ -280,3 +280,35 @@ def test_a_verified_start_gives_the_others_a_quarter_of_its_time_then_stops_them
     r = step2_large.run_start(P, N, step2_large.start_nstar(P, sol, 0.5), sol.alpha, stop=stop)
     assert not r["verified"] and r["z"] is None and r["iterations"] == 1
     assert r["reason"].startswith("stopped: another start had verified")
+
+
+def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
+    """Below LARGE_MIN_FREE, solver 'auto' runs the successive LP and then the large route, and
+    keeps the large route's verified alpha only when it is lower; every run of both is listed.
+    The successive LP is replaced by a stand-in that returns the large route's own verified
+    point at a given alpha (or fails), so that only the choice is under test. (On the 70-stone
+    Fig. 3 wall the large route verified 0.520808 where the successive LP kept the LP's
+    0.570752: limit/step2.py, ALSO_ITERATIVE.)"""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    big = step2_large.solve(P, sol, workers=1)
+    assert big["ok"]
+
+    def stand_in(alpha, ok=True):
+        def run(*a, **k):
+            return {"ok": ok, "z": big["z"], "N": big["N"], "alpha": alpha, "alpha_raw": alpha,
+                    "residuals": big["residuals"], "reason": "" if ok else "forced", "notes": ["stand-in"],
+                    "solver": "sla", "start": "lp", "runs": [{"start": "lp", "solver": "sla", "alpha": alpha}]}
+        return run
+
+    cases = [(big["alpha"], True, "successive-lp", big["alpha"]),  # not lower: the successive LP's stands
+             (big["alpha"] + 0.05, True, "iterative-lp", big["alpha"]),  # lower: taken
+             (big["alpha"] + 0.05, False, "iterative-lp", big["alpha"])]  # the successive LP failed
+    for alpha, ok, route, expected in cases:
+        monkeypatch.setattr(step2, "run", stand_in(alpha, ok))
+        part = step2.step2(P, sol, method="nlp")
+        assert part["route"] == route and part["status"] == "optimal"
+        assert part["alpha"] == pytest.approx(expected, abs=1e-12)
+        assert [r["solver"] for r in part["runs"]] == ["sla"] + ["iterative-lp"] * len(big["starts"])
+    monkeypatch.setattr(step2, "ALSO_ITERATIVE", False)
+    part = step2.step2(P, sol, method="nlp")
+    assert part["route"] == "successive-lp" and [r["solver"] for r in part["runs"]] == ["sla"]
