@@ -61,7 +61,11 @@ With the snap's kinematics on rigid clusters (same machine, same day): 337 s, bo
 :data:`GRACE` as well, two runs: 279 and 296 s (0.4 mu verified 0.335865 at 207 and 218 s, 34 LPs;
 0.5 mu stopped at 260 and 277 s).
 There, 3D 3,024 blocks: both starts verified, best 0.526630 (0.5 mu, 323 s), worst 0.527754 (the
-LP's start, 87 LPs), 453 s. 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
+LP's start, 87 LPs), 453 s; with the starts of :data:`START_FACTORS_ONE_ROUND_3D` and the snap's
+statics on the interior point method (:data:`SNAP_BACKENDS`), 281 s, best 0.525765 (0.25 mu, 52 LPs,
+236 s), worst 0.526630 (0.5 mu, 44 LPs, 272 s); 10,050 2D blocks 299 s (0.4 mu verified 0.335865 at
+218 s, 34 LPs, as before: the snaps were not its cost). The interior point LPs are now about 85 % of
+a start (3D 3,024 blocks: 28 iterations and 4.9 s per LP). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
 start, 112-130 s), both verified in 204 s (none in 600 s before the snap took Clarabel's
 AlmostSolved).
