@@ -114,6 +114,9 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     """The ``nlp`` part of the result file (docs/formats.md, 'Result file').
 
     ``method`` "auto" skips the NLP where it cannot change the answer; "nlp" always runs it.
+    ``solver`` "auto": the large-scale route (:mod:`limit.solve.step2_large`) from LARGE_MIN_FREE
+    free blocks on or where the LP is unbounded; below, the successive LP (:func:`run`) and then
+    the large route, whose verified alpha is kept where lower (:data:`ALSO_ITERATIVE`).
     ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).
     ``global_check`` adds the mixed-integer global minimum (:mod:`limit.solve.milp`) for scenes of up
     to GLOBAL_MAX_BLOCKS free blocks; ``iterative`` the iterative LP of Gilbert et al.
@@ -135,6 +138,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
                 "mechanism": mechanism.per_block(P, lp_sol.u)}
         _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
         return part
+    small = not large  # the successive LP's route (an arbitrary start is run below only there)
     if large:
         out = _large(P, lp_sol, time_budget)
     else:
@@ -169,7 +173,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         part["interfaces"] = interfaces_part(P, P.model.H @ x, cls)
         part["counts"] = {k: int(v.sum()) for k, v in cls.items()}
         part["_summary"] = ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]
-    if arbitrary and not large:
+    if arbitrary and small:
         arb = run(P, lp_sol, solver=solver, start="arbitrary", backend=backend, restarts=False)
         part["alpha_arbitrary_start"] = arb.get("alpha") if arb.get("ok") else None
         part["arbitrary_start_status"] = "optimal" if arb.get("ok") else f"failed: {arb.get('reason')}"
