@@ -101,8 +101,9 @@ def solve(P, flows: np.ndarray, tol: float = 1e-9, max_iter: int = MAX_ITER) -> 
     act = np.flatnonzero(flows)
     hold = np.flatnonzero(~flows)
     Z, u_iface = null_spaces(Yh, P.model.x_iface, act)
-    Yr = (Yh[hold] @ Z).tocsr()
-    own = np.sqrt(np.asarray(Yh[hold].multiply(Yh[hold]).sum(axis=1)).ravel())
+    Yhold = Yh[hold]
+    Yr = (Yhold @ Z).tocsr()
+    own = np.sqrt(np.asarray(Yhold.multiply(Yhold).sum(axis=1)).ravel())
     red = np.sqrt(np.asarray(Yr.multiply(Yr).sum(axis=1)).ravel())
     keep = red > DROP_RTOL * np.maximum(own, 1e-300)
     Yr = Yr[np.flatnonzero(keep)]

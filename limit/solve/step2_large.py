@@ -265,8 +265,9 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     flowing faces, 0 elsewhere: flow and normalisation) is a feasibility problem. The kinematics
     first, on rigid clusters (:mod:`limit.solve.rigid_clusters`: an LP of a few thousand unknowns
     at most, solved by :data:`KINEMATICS_BACKEND`), so that a flowing set without a mechanism costs
-    no statics LP; then the statics, an LP of the whole scene's actions in ``backend`` (1,008-block
-    wall: 21 s as one LP). ``deadline``
+    no statics LP; then the statics, an LP of the whole scene's actions: ``backend`` "ipm" on the
+    structured interior point method (:mod:`limit.solve.piece_statics`), else in that backend of
+    :mod:`limit.solve.lpsub` (1,008-block wall: 21 s as one LP). ``deadline``
     (time.perf_counter(), None: none): each LP stops there (a failed snap). Clarabel's
     reduced-accuracy answers are taken (the snapped point is checked independently): on a 3D
     wall of 3,024 blocks both piece LPs ended "AlmostSolved" at a residual of 2.4e-3."""
