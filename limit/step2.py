@@ -113,7 +113,10 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
           global_time_limit: float = 120.0, time_budget: float | None = TIME_BUDGET) -> dict:
     """The ``nlp`` part of the result file (docs/formats.md, 'Result file').
 
-    ``method`` "auto" skips the NLP where it cannot change the answer; "nlp" always runs it.
+    ``method`` "auto" skips the NLP where the LP's mechanism has no sliding or twisting
+    (:func:`limit.solve.nlp.needs_nlp`) and the LP's point passes the frictional check
+    (:func:`limit.solve.nlp.check`, its residuals under "verification"): that point is then a
+    frictional collapse state and is the answer. "nlp" always runs it.
     ``solver`` "auto": the large-scale route (:mod:`limit.solve.step2_large`) from LARGE_MIN_FREE
     free blocks on or where the LP is unbounded; below, the successive LP (:func:`run`) and then
     the large route, whose verified alpha is kept where lower (:data:`ALSO_ITERATIVE`).
@@ -133,9 +136,15 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     else:
         need, why = nlp.needs_nlp(P, lp_sol)
     large = lp_sol.status == "unbounded" or (solver == "auto" and n_free >= LARGE_MIN_FREE)
+    checked = None
+    if method == "auto" and not need:  # the LP's point, checked as a frictional collapse state
+        N = build(P)
+        ok, checked, fail = nlp.check(N, nlp_starts.lp_start(N, lp_sol), lp_sol.alpha)
+        if not ok:
+            need, why = True, f"the LP's point fails the frictional check ({fail})"
     if method == "auto" and not need:
         part = {"status": "skipped", "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
-                "mechanism": mechanism.per_block(P, lp_sol.u)}
+                "verification": checked, "mechanism": mechanism.per_block(P, lp_sol.u)}
         _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
         return part
     small = not large  # the successive LP's route (an arbitrary start is run below only there)

@@ -67,6 +67,30 @@ def test_skip_rule_pure_rocking():
     assert res["alpha"] == pytest.approx(sol.alpha)
     # the rule is right here: the global frictional minimum is the LP value
     assert res["global"]["alpha"] == pytest.approx(sol.alpha, rel=1e-6)
+    # and the LP's point was checked as a frictional collapse state before the skip
+    from limit.solve import verify
+    assert res["verification"]["complementarity"] <= verify.TOL_COMP
+
+
+def test_skip_rule_runs_nlp_when_the_lp_point_fails_the_frictional_check(monkeypatch):
+    """No sliding in the LP mechanism is not enough: the LP's point must also pass nlp.check as a
+    frictional collapse state, else step 2 runs (here the check is forced to fail on the LP's
+    point only, so the portal's step 2 runs and finds the same rocking alpha, 0.2)."""
+    from limit.solve import nlp
+
+    P, sol = setup(B.portal(dim=2, mu=0.9))
+    real = nlp.check
+    calls = []
+
+    def failing_first(N, z, alpha_lp):
+        calls.append(1)
+        if len(calls) == 1:
+            return False, {}, "forced failure"
+        return real(N, z, alpha_lp)
+    monkeypatch.setattr(nlp, "check", failing_first)
+    res = step2.step2(P, sol, method="auto")
+    assert len(calls) > 1 and res["status"] == "optimal"
+    assert res["alpha"] == pytest.approx(sol.alpha, rel=1e-6)
 
 
 def test_skip_rule_runs_nlp_when_lp_mechanism_slides():
