@@ -263,19 +263,22 @@ def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(m
     assert [r["start"] for r in big["starts"]] == ["lp-mu*0.5", "lp-mu*0.4"]
 
 
-def test_a_verified_start_gives_the_others_a_quarter_of_its_time_then_stops_them():
-    """_Stop: a start that verifies t seconds into the route sets the stop time t0 + t (1 + GRACE);
-    a start past it ends at its next LP, unverified, and says why (never a number)."""
+@pytest.mark.parametrize("grace", [0.0, 0.25])
+def test_a_verified_start_stops_the_others_after_the_grace(monkeypatch, grace):
+    """_Stop: a start that verifies t seconds into the route sets the stop time t0 + t (1 + GRACE)
+    (GRACE 0: at once, the default; 0.25: a quarter of its time later); a start past it ends at
+    its next LP, unverified, and says why (never a number)."""
     import time
 
+    monkeypatch.setattr(step2_large, "GRACE", grace)
     P, sol = _solved(B.running_bond_wall(4, 4, dim=2, L=0.4, H=0.3, mu=0.9))
     N = step2_large.build(P)
     t0 = time.perf_counter()
     stop = step2_large._Stop(t0 - 8.0)
-    stop.verified(t0)  # verified 8 s into the route: the others stop 2 s later
-    assert stop.at() == pytest.approx(t0 + 2.0, abs=1e-9) and step2_large.GRACE == 0.25
+    stop.verified(t0)  # verified 8 s into the route: the others stop 8 grace s later
+    assert stop.at() == pytest.approx(t0 + 8.0 * grace, abs=1e-9)
     stop.verified(t0 + 100.0)  # a later one never moves it back
-    assert stop.at() == pytest.approx(t0 + 2.0, abs=1e-9)
+    assert stop.at() == pytest.approx(t0 + 8.0 * grace, abs=1e-9)
     stop.value.value = time.perf_counter() - 1.0
     r = step2_large.run_start(P, N, step2_large.start_nstar(P, sol, 0.5), sol.alpha, stop=stop)
     assert not r["verified"] and r["z"] is None and r["iterations"] == 1
@@ -312,3 +315,18 @@ def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
     monkeypatch.setattr(step2, "ALSO_ITERATIVE", False)
     part = step2.step2(P, sol, method="nlp")
     assert part["route"] == "successive-lp" and [r["solver"] for r in part["runs"]] == ["sla"]
+
+
+def test_the_bench_auto_column_is_what_step2_keeps():
+    """bench/step2_large_bench.py's 'auto' column, computed from the two routes it times, is the
+    alpha step2.step2 itself returns for the same wall (the lower of the successive LP's and the
+    large route's below LARGE_MIN_FREE free blocks): the 'never worse than today' column."""
+    from bench.step2_large_bench import auto_alpha
+
+    P, sol = _solved(B.running_bond_wall(4, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    row = {"alpha": step2_large.solve(P, sol)["alpha"], "today_alpha": step2.run(P, sol)["alpha"]}
+    part = step2.step2(P, sol, method="nlp")
+    assert part["status"] == "optimal"
+    assert auto_alpha(row, P.n_dof // P.scene.ndof) == pytest.approx(part["alpha"], abs=1e-9)
+    assert auto_alpha(row, P.n_dof // P.scene.ndof) <= row["today_alpha"] + 1e-12
+    assert auto_alpha(row, step2.LARGE_MIN_FREE) == row["alpha"]

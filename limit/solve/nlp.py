@@ -205,9 +205,10 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     mechanism. Otherwise the LP's mechanism needs no dilatancy, so the LP's point is also a
     frictional collapse state (:mod:`limit.step2` checks it as one before it skips). That makes
     it an upper bound of the frictional minimum, like every step-2 alpha, not the minimum itself:
-    no theorem rules out a lower frictional state. The MILP's global minimum agreed with it
-    to 1e-8 on the catalog's 10 such scenes and on 75 generated ones (slender running-bond walls,
-    portals, arches; 2026-11-27)."""
+    no theorem rules out a lower frictional state. The MILP's global minimum (and step 2 run
+    anyway) agreed with it to 1e-8 on 10 of the catalog's 11 such scenes (the 27-block 3D
+    out-of-plane wall's MILP was not waited for) and on 56 generated ones (34 slender running-bond
+    walls, 18 portals, 4 arches; 2026-11-27)."""
     cls = mechanism.classify(P, lp_sol.u)
     n_slide, n_twist = int(cls["slide"].sum()), int(cls["twist"].sum())
     # The multipliers say the same: no sliding or twisting face flows.
