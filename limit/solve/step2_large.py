@@ -191,14 +191,21 @@ ONE_ROUND_MIN_FREE = 2000
 #: 0.527463 by one start at the 600 s budget, against 0.525052 in 204 s without either)
 WARM_START_DIMS = (2,)
 #: once a start has verified at t (s from the route's start), the others stop at t x (1 + GRACE):
-#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS only. In 2D every start that verified
-#: gave the same alpha (10,050 blocks: 0.335865 from both starts in each of four runs with both
-#: verified; 3,052 blocks: 0.337984; 1,008 blocks: 0.341463 from all three), and the slower start
-#: holds the route: 10,050 blocks (2026-11-27) 0.4 mu verified at 218 s, 0.5 mu at 319 s, the route
-#: 337 s. Not in 3D: there the starts' alphas differ, and stopping the other starts 25 % of its time
-#: after the first one verified kept the 3,024-block wall's 0.530657 (the start that verified first,
-#: 130 s) and lost the 0.525052 that the other reaches at about 200 s
-GRACE = 0.25
+#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS only, where the starts race and the
+#: first verified one ends the route. In 2D every start that verified gave the same alpha
+#: (10,050 blocks: 0.335865 from both starts in each of four runs with both verified; 3,052
+#: blocks: 0.337984; 1,008 blocks: 0.341463 from all three), and a grace long enough for the
+#: second start was never short: at 10,050 blocks it verified 46 % to 56 % of the first one's
+#: time later (0.4 mu at 218 and 221 s, 0.5 mu at 319 and 339 s, 2026-11-27), so a grace of 0.25
+#: (the value until 2026-11-27) stopped it unverified in each of four runs and cost a quarter of
+#: the route. With 0 (2026-11-27, idle machine): 222 s (0.4 mu verified at 200 s, 34 LPs) where
+#: 0.25 gave 279-299 s with the same 34 LPs; but with OPENBLAS_NUM_THREADS=1 (as ``make bench``
+#: sets it) the 0.4 mu start's path takes 41 LPs and 2 snaps (rounding outside the interior point
+#: method steers it) and the route took 290 and 298 s either way. Not in 3D: there the starts' alphas differ,
+#: and stopping the other starts 25 % of its time after the first one verified kept the
+#: 3,024-block wall's 0.530657 (the start that verified first, 130 s) and lost the 0.525052 that
+#: the other reaches at about 200 s
+GRACE = 0.0
 
 
 def _free_blocks(P) -> int:
@@ -392,7 +399,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
         why = (f"stalled: the complementarity residual had no new low ({relax['best']:.1e}) for {STALL} LPs "
                f"at the smallest relaxation {OMEGA_MIN:g}")
     elif stop is not None and time.perf_counter() > stop.at() and (deadline is None or stop.at() < deadline):
-        why = f"stopped: another start had verified ({GRACE:.0%} of its time given to the others)"
+        why = f"stopped: another start had verified ({GRACE:.0%} of its time given to the others)" if GRACE \
+            else "stopped: another start had verified first"
     else:
         why = out.get("reason") or ("time budget spent" if out["status"] == "stopped" else out["status"])
     return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
