@@ -91,6 +91,11 @@ OMEGA_LARGE = 0.5
 #: (tried at 10,050 2D blocks, one start, and not kept: 0.25 from the start stalled at a residual of
 #: 0.05; Anderson acceleration of N* with a memory of 5 (Walker & Ni 2011) stalled at 0.12; a
 #: relaxation per friction row, halved where its residual changed sign, was no better than one)
+#: (tried and not kept, 2026-11-27: omega = 1 for one update once the residual had fallen by the
+#: factor 1 - omega at each of two LPs in a row, as it does near a fixed point of N* -> N: at 10,050
+#: 2D blocks the 0.4 mu start verified at 206 s instead of 218 s, 36 LPs instead of 41; but with
+#: the very large walls' settings forced onto running-bond walls of 6 to 36 blocks, 2 of the 3
+#: starts that had verified stalled)
 OMEGA_MIN = 0.125
 STALL = 8
 #: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension, from
@@ -158,6 +163,13 @@ SNAP_RULES_LARGE = ("ratio", "support")
 #: 3,052-block 2D wall (2026-11-27, the other core busy) it gave Clarabel's alpha to 1e-11 in
 #: 1.6-2.1 s against 2.5-4.3 s, and in 0.2-0.4 s gave up on pieces Clarabel proved infeasible
 SNAP_BACKENDS = ("ipm", "clarabel", "highs")
+#: a piece whose interior point diverges (ipm.solve's ``mu_diverged``: "probably no feasible
+#: point") counts as infeasible, like a piece a backend proved infeasible: when every rule's piece
+#: did, no other backend is asked. At 10,050 2D blocks (0.4 mu start, 2026-11-27) a snap at a
+#: residual of 1.3e-5 diverged on both rules in 5.5 and 7.8 s, and Clarabel then proved both
+#: infeasible in 21.5 and 16.7 s; on the 4 x 4 walls of tests/test_piece_statics.py the
+#: interior point answered every piece the simplex solved above alpha = 0
+SNAP_TRUST_DIVERGED = True
 #: LP backend of the snap's kinematics on rigid clusters. At 10,050 2D blocks the kinematics on
 #: every block dof took Clarabel 18.5 s per snap (cProfile, 2026-11-27); on the clusters it takes
 #: 0.1-1 s at 3,052 blocks. HiGHS is as fast on the small ones (3 to 90 cluster unknowns) but on
@@ -347,7 +359,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
 
             def polisher(N_, z_, rule="ratio", backend="highs"):
                 zp, why = snap(N_, z_, rule, backend, until())
-                if zp is None and "infeasible" in why.lower():
+                if zp is None and ("infeasible" in why.lower()
+                                   or SNAP_TRUST_DIVERGED and backend == "ipm" and "no feasible point" in why):
                     proven.append(rule)
                 return zp, why
 
