@@ -57,7 +57,7 @@ def one(n, dim) -> dict:
         t = time.perf_counter()
         today = step2.run(P, sol)
         row.update(today_alpha=today.get("alpha") if today["ok"] else None, today_s=time.perf_counter() - t)
-        row["auto_alpha"] = auto_alpha(row, P.n_dof // P.scene.ndof)
+    row["auto_alpha"] = auto_alpha(row, P.n_dof // P.scene.ndof)
     print(f"step2-large {dim}D {row['blocks']:6d} blocks LP {sol.alpha:.5f} route {row['alpha']} "
           f"({row['time_s']:.1f} s, {row['n_verified']}/{row['starts']} starts verified) "
           f"today {row.get('today_alpha')} ({row.get('today_s', float('nan')):.1f} s)", flush=True)

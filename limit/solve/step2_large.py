@@ -68,7 +68,9 @@ statics on the interior point method (:data:`SNAP_BACKENDS`), 281 s, best 0.5257
 a start (3D 3,024 blocks: 28 iterations and 4.9 s per LP). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
 starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
 start, 112-130 s), both verified in 204 s (none in 600 s before the snap took Clarabel's
-AlmostSolved).
+AlmostSolved). ``make bench`` with :data:`GRACE` 0 and :data:`SNAP_TRUST_DIVERGED` (idle machine,
+2026-11-27): 10,050 2D blocks 258 s (the 0.4 mu start verified 0.335865; 16 s more for the step-1
+LP); 3D 3,024 blocks 260 s, both starts verified, best 0.525765 (7 s more for the step-1 LP).
 """
 from __future__ import annotations
 
