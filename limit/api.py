@@ -15,7 +15,8 @@ class StepResult:
     """One step of the analysis (``lp``: step 1, ``nlp``: step 2).
 
     ``status``: optimal | skipped (the LP's mechanism has no sliding and its point passed the
-    frictional check: it is the answer) | infeasible (the dead load alone collapses) | unbounded (no mechanism) | failed (with ``reason``);
+    frictional check: it is the answer) | infeasible (the dead load alone collapses) | unbounded
+    (no mechanism) | failed (with ``reason``);
     ``alpha``: the load factor (None unless the status carries one); ``mechanism``: block
     id -> velocity (2D [ux, uy, rz], 3D [ux, uy, uz, rx, ry, rz]; unit work of the live load);
     ``data``: the whole part of the result file."""

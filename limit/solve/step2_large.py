@@ -215,10 +215,11 @@ WARM_START_DIMS = (2,)
 #: the route. With 0 (2026-11-27, idle machine): 222 s (0.4 mu verified at 200 s, 34 LPs) where
 #: 0.25 gave 279-299 s with the same 34 LPs; but with OPENBLAS_NUM_THREADS=1 (as ``make bench``
 #: sets it) the 0.4 mu start's path takes 41 LPs and 2 snaps (rounding outside the interior point
-#: method steers it) and the route took 290 and 298 s either way. Not in 3D: there the starts' alphas differ,
-#: and stopping the other starts 25 % of its time after the first one verified kept the
-#: 3,024-block wall's 0.530657 (the start that verified first, 130 s) and lost the 0.525052 that
-#: the other reaches at about 200 s
+#: method steers it) and the route took 290 and 298 s either way; with SNAP_TRUST_DIVERGED as well,
+#: 258 and 264 s (41 LPs), and 227 s without the thread limit (34 LPs). Not in 3D: there the
+#: starts' alphas differ, and stopping the other starts 25 % of its time after the first one
+#: verified kept the 3,024-block wall's 0.530657 (the start that verified first, 130 s) and lost
+#: the 0.525052 that the other reaches at about 200 s
 GRACE = 0.0
 
 
