@@ -83,7 +83,13 @@ def entries() -> dict:
     oop["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
     oop["demand"] = dict(EXAMPLE_DEMAND)
     oop["symmetry"] = "mirror"  # about the vertical plane x = 1.2 m (checked by limit.verdict.symmetry)
-    oop["meta"] = {"sweep": {"step": 5}}  # the worst direction: half the circle solved, by the symmetry
+    oop["meta"] = {"sweep": {"step": 5},  # the worst direction: half the circle solved, by the symmetry
+                   "notes": "The LP's mechanism (overturning about the base edge, t/H) has no sliding, so step 2 "
+                            "is skipped and t/H is reported. It is a frictional collapse state but not the lowest: "
+                            "the MILP of limit/solve/milp.py, stopped at 400 s without a proof, found one at "
+                            "0.18723 that passes the independent check (3 interfaces slide, 1 twists, 5 rock), "
+                            "1.7 % lower; step 2 run anyway also stays at t/H, and both engines follow t/H "
+                            "(2026-11-27)."}
     add(oop)
     th = math.radians(30.0)
     obl = B.single_block(dim=3, b=0.4, h=1.0, t=0.25, mu=2.0, name="block-oblique-3d",

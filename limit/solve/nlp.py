@@ -205,10 +205,13 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     mechanism. Otherwise the LP's mechanism needs no dilatancy, so the LP's point is also a
     frictional collapse state (:mod:`limit.step2` checks it as one before it skips). That makes
     it an upper bound of the frictional minimum, like every step-2 alpha, not the minimum itself:
-    no theorem rules out a lower frictional state. The MILP's global minimum (and step 2 run
-    anyway) agreed with it to 1e-8 on 10 of the catalog's 11 such scenes (the 27-block 3D
-    out-of-plane wall's MILP was not waited for) and on 56 generated ones (34 slender running-bond
-    walls, 18 portals, 4 arches; 2026-11-27)."""
+    and a lower one exists on the catalog's 3D out-of-plane wall (27 blocks): the MILP
+    (:mod:`limit.solve.milp`, stopped at 400 s without a proof) found a frictional collapse state at
+    0.187227 that passes :func:`check` (3 interfaces slide, 1 twists, 5 rock), 1.7 % below the LP's
+    t/H = 0.190476, which the skip reports; step 2 run anyway stays at 0.190476 too, and YADE
+    (0.1903) and LMGC90 (0.1914) follow t/H. Elsewhere the MILP's global minimum (and step 2 run
+    anyway) agreed with the LP to 1e-8: the catalog's other 10 such scenes and 56 generated ones
+    (34 slender running-bond walls, 18 portals, 4 arches; 2026-11-27)."""
     cls = mechanism.classify(P, lp_sol.u)
     n_slide, n_twist = int(cls["slide"].sum()), int(cls["twist"].sum())
     # The multipliers say the same: no sliding or twisting face flows.
@@ -219,8 +222,8 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     lam_flow = bool(np.any(lam[flowing] > mechanism.ACTIVE * ref))
     if n_slide == 0 and n_twist == 0 and not lam_flow:
         return False, ("no interface slides or twists in the LP mechanism: the LP's point is also a "
-                       "frictional (non-dilatant) collapse state, taken as step 2's answer (method 'nlp' "
-                       "searches for a lower one)")
+                       "frictional (non-dilatant) collapse state, taken as step 2's answer; a lower one can "
+                       "exist (method 'nlp' searches, and the global check proves it on small scenes)")
     return True, f"{n_slide} interface(s) slide and {n_twist} twist in the LP mechanism"
 
 
