@@ -67,13 +67,11 @@ def one(n, dim) -> dict:
 def auto_alpha(row: dict, n_free: int) -> float | None:
     """The alpha ``limit solve --method auto`` keeps from the two routes measured in ``row``: from
     step2.LARGE_MIN_FREE free blocks on the large route's; below, the lower verified one
-    (step2.ALSO_ITERATIVE: the large route's only when lower by more than step2.LOWER_BY)."""
+    (step2.ALSO_ITERATIVE, step2.prefer_large)."""
     big, today = row.get("alpha"), row.get("today_alpha")
     if n_free >= step2.LARGE_MIN_FREE or today is None:
         return big
-    if big is not None and step2.ALSO_ITERATIVE and big < today - step2.LOWER_BY * abs(today):
-        return big
-    return today
+    return big if step2.ALSO_ITERATIVE and step2.prefer_large(today, big) else today
 
 
 def main(sizes_2d=SIZES_2D, sizes_3d=SIZES_3D) -> pd.DataFrame:

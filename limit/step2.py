@@ -154,7 +154,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         out = run(P, lp_sol, solver=solver, start="lp", backend=backend, time_budget=time_budget)
         if solver == "auto" and ALSO_ITERATIVE:
             alt = _large(P, lp_sol, time_budget)
-            if alt["ok"] and (not out["ok"] or alt["alpha"] < out["alpha"] - LOWER_BY * abs(out["alpha"])):
+            if prefer_large(out["alpha"] if out["ok"] else None, alt["alpha"] if alt["ok"] else None):
                 large, out = True, {**alt, "runs": out.get("runs", []) + alt["runs"]}
             else:
                 out = {**out, "runs": out.get("runs", []) + alt["runs"]}
@@ -203,6 +203,15 @@ LARGE_MIN_FREE = 200
 #: 0.5208; 2026-11-27)
 ALSO_ITERATIVE = True
 LOWER_BY = 1e-9
+
+
+def prefer_large(alpha_successive: float | None, alpha_large: float | None) -> bool:
+    """Whether solver "auto" below LARGE_MIN_FREE keeps the large route's verified alpha over the
+    successive LP's (None: that route did not verify): only when lower by more than LOWER_BY
+    (relative), or when the successive LP failed."""
+    if alpha_large is None:
+        return False
+    return alpha_successive is None or alpha_large < alpha_successive - LOWER_BY * abs(alpha_successive)
 
 
 def _large(P, lp_sol, time_budget) -> dict:
