@@ -251,7 +251,8 @@ def test_an_infeasible_lp_stops_once_mu_diverges():
     """A block on its base whose yield rows are shifted out of reach (c = -1 on every face: each
     face at least 1, scaled, inside its yield value, a margin that its weight's normal force
     cannot give): no feasible point. With mu_diverged the method stops within a few iterations and says so;
-    without it, it runs to max_iter. Clarabel (the second method) proves it infeasible."""
+    without it, it runs to max_iter. Clarabel and HiGHS (second methods) prove it infeasible, which
+    their results say as ``no_point`` (what the snap of step2_large reads)."""
     from limit.solve import lpsub
     import scipy.sparse as sp
 
@@ -260,13 +261,17 @@ def test_an_infeasible_lp_stops_once_mu_diverges():
     args = (P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface)
     fast = ipm.solve(*args, c=c, max_iter=100, mu_diverged=1e6)
     assert fast["status"] == "failed" and "no feasible point" in fast["reason"] and fast["iterations"] < 40
+    assert fast["diverged"]
     slow = ipm.solve(*args, c=c, max_iter=100)
-    assert slow["status"] == "failed" and slow["iterations"] > fast["iterations"]
+    assert slow["status"] == "failed" and slow["iterations"] > fast["iterations"] and not slow["diverged"]
     nx = P.model.n_x
     A = sp.hstack([sp.csr_matrix(P.fLh.reshape(-1, 1)), P.Eh]).tocsr()
-    ref = lpsub.solve(np.r_[-1.0, np.zeros(nx)], A, -P.f0h, sp.hstack([sp.csr_matrix((len(c), 1)), P.Yh]).tocsr(), c,
-                      np.full(nx + 1, -np.inf), np.full(nx + 1, np.inf), "clarabel")
-    assert not ref.ok and "Infeasible" in ref.status
+    for backend in ("clarabel", "highs"):
+        ref = lpsub.solve(np.r_[-1.0, np.zeros(nx)], A, -P.f0h, sp.hstack([sp.csr_matrix((len(c), 1)), P.Yh]).tocsr(),
+                          c, np.full(nx + 1, -np.inf), np.full(nx + 1, np.inf), backend)
+        assert not ref.ok and ref.no_point and "nfeasible" in ref.status, backend
+    feasible = ipm.solve(*args, max_iter=100, mu_diverged=1e6)  # c = 0: the block's own LP, alpha = b/h
+    assert feasible["status"] == "optimal" and not feasible["diverged"]
 
 
 def test_almost_returns_the_best_iterate_of_an_unfinished_solve():

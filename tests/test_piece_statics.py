@@ -76,8 +76,8 @@ def test_sliding_and_rocking_blocks_give_their_closed_forms(dim):
     kw = {"t": 0.5} if dim == 3 else {}
     for b, h, mu, alpha in ((1.0, 0.5, 0.4, 0.4), (0.3, 1.0, 0.6, 0.3)):
         P, sol = _solved(B.single_block(dim=dim, b=b, h=h, mu=mu, **kw))
-        a, xh, why = piece_statics.solve(P, _lp_flows(P, sol))
-        assert a == pytest.approx(alpha, abs=1e-7), why
+        st = piece_statics.solve(P, _lp_flows(P, sol))
+        assert st.alpha == pytest.approx(alpha, abs=1e-7), st.note
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -96,14 +96,15 @@ def test_the_same_minimum_as_the_simplex_or_no_answer_where_it_has_none(dim):
     answered = unanswered = 0
     for flows in sets:
         ref = _simplex_statics(P, flows)
-        a, xh, why = piece_statics.solve(P, flows)
+        st = piece_statics.solve(P, flows)
         if ref is None:
-            assert a is None, why
+            assert st.alpha is None, st.note
             unanswered += 1
-        elif ref < 1e-9 and a is None:
-            assert "below 0" in why
+        elif ref < 1e-9 and st.alpha is None:
+            assert "below 0" in st.note and not st.diverged
         else:
-            assert a == pytest.approx(ref, abs=1e-7), why
+            assert st.alpha == pytest.approx(ref, abs=1e-7), st.note
+            assert not st.diverged
             answered += 1
     assert answered >= 3 and unanswered >= 1  # both branches were exercised
 
@@ -114,8 +115,8 @@ def test_the_snap_with_it_passes_the_independent_check():
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     N = build(P)
     out = step2_large.solve(P, sol, workers=1)
-    zp, why = step2_large.snap(N, out["z"], "support", "ipm")
-    assert zp is not None, why
+    zp, why, infeasible, diverged = step2_large.snap(N, out["z"], "support", "ipm")
+    assert zp is not None and not infeasible and not diverged, why
     ok, _, reason = nlp.check(N, zp, sol.alpha)
     assert ok, reason
     assert zp[N.ia] == pytest.approx(out["alpha"], abs=1e-7)

@@ -49,7 +49,7 @@ def test_a_stack_overturning_as_one_is_one_cluster_moving_rigidly():
     flows = _lp_flows(P, sol)
     T, explicit = rigid_clusters.clusters(P, flows)
     assert T.shape[1] == 3  # the three blocks are one cluster: three unknowns
-    vh, lam, _ = rigid_clusters.kinematics(P, N.Gh, flows)
+    vh, lam, _, _ = rigid_clusters.kinematics(P, N.Gh, flows)
     res, fl = _flow_residual(P, N, flows, vh, lam)
     assert res < 1e-9 and fl == pytest.approx(1.0, abs=1e-9) and (lam >= 0).all()
     _, _, u, _ = N.unscale(N.join(0.0, np.zeros(P.model.n_x), vh, np.zeros(P.model.n_faces)))
@@ -64,7 +64,8 @@ def test_a_stack_overturning_as_one_is_one_cluster_moving_rigidly():
 @pytest.mark.parametrize("dim", [2, 3])
 def test_feasible_exactly_where_the_flow_lp_on_every_dof_is(dim):
     """Flowing sets: those of a verified frictional collapse state (step 2), of the LP mechanism
-    (dilatant: no mechanism with the non-associative flow), every face, and random ones."""
+    (dilatant: no mechanism with the non-associative flow), every face, and random ones. Where
+    there is none, the backend proves it (``no_point``)."""
     P = assemble(load_scene(B.running_bond_wall(4, 4, dim=dim, L=0.4, H=0.3, mu=0.9)))
     sol, _, _ = solve_lp(P)
     N = build(P)
@@ -75,9 +76,10 @@ def test_feasible_exactly_where_the_flow_lp_on_every_dof_is(dim):
     sets += [rng.random(P.model.n_faces) < p for p in (0.05, 0.2, 0.5, 0.8) for _ in range(3)]
     agree = []
     for flows in sets:
-        vh, lam, _ = rigid_clusters.kinematics(P, N.Gh, flows)
+        vh, lam, status, no_point = rigid_clusters.kinematics(P, N.Gh, flows)
         full = _full_kinematics(P, N, flows)
         agree.append((vh is not None) == full)
+        assert no_point == (vh is None), status  # no mechanism is proved so (the snap then asks no other backend)
         if vh is not None:
             res, fl = _flow_residual(P, N, flows, vh, lam)
             assert res < 1e-7 and fl == pytest.approx(1.0, abs=1e-7) and (lam >= 0).all()
@@ -95,7 +97,7 @@ def test_a_block_with_a_blocked_dof_keeps_its_own_unknowns():
     sol, _, _ = solve_lp(P)
     N = build(P)
     for flows in (_lp_flows(P, sol), np.ones(P.model.n_faces, bool)):
-        vh, lam, _ = rigid_clusters.kinematics(P, N.Gh, flows)
+        vh, lam, _, _ = rigid_clusters.kinematics(P, N.Gh, flows)
         assert (vh is not None) == _full_kinematics(P, N, flows)
         if vh is not None:
             res, fl = _flow_residual(P, N, flows, vh, lam)

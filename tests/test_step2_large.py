@@ -136,12 +136,13 @@ def test_a_snap_past_its_deadline_fails_and_gives_no_point(backend):
 
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     N = step2_large.build(P)
-    z, why = step2_large.snap(N, nlp_starts.lp_start(N, sol), "support", backend, deadline=time.perf_counter() - 1.0)
-    assert z is None and "time limit" in why
+    out = step2_large.snap(N, nlp_starts.lp_start(N, sol), "support", backend, deadline=time.perf_counter() - 1.0)
+    assert out.z is None and "time limit" in out.note
+    assert not out.infeasible and not out.diverged  # a time limit proves nothing about the piece
     if backend == "ipm":  # the statics of limit/solve/piece_statics.py: no LP front end
         return
     res = lpsub.solve([1.0], None, None, None, None, [0.0], [1.0], backend, time_limit=0.0)
-    assert not res.ok and res.z is None
+    assert not res.ok and res.z is None and not res.no_point
 
 
 def test_large_walls_run_one_round_of_starts(monkeypatch):
@@ -345,8 +346,7 @@ def test_a_snap_whose_interior_point_pieces_all_diverge_asks_no_other_backend(mo
     def snap(N_, z, rule="ratio", backend="highs", deadline=None):
         asked.append(backend)
         if backend == "ipm":
-            return None, (f"piece LP statics ({rule}): interior point: mu grew from 1.0e+00 to 1.0e+08 in 24 "
-                          "iterations: probably no feasible point")
+            return step2_large.Snap(None, f"piece LP statics ({rule}): interior point: mu grew", diverged=True)
         return real(N_, z, rule, backend, deadline)
     monkeypatch.setattr(step2_large, "snap", snap)
     monkeypatch.setattr(step2_large, "SNAP_TRUST_DIVERGED", trust)

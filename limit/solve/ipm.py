@@ -402,7 +402,8 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
 
     x_group: (n_x,) interface of each action (sorted). Returns a dict with
     status ("optimal" or "failed"), alpha, xh (n_x,), vh (n_dof,), lamh
-    (n_faces,), s (m,) the slacks, iterations, reason and per-phase seconds. ``tol`` bounds the
+    (n_faces,), s (m,) the slacks, iterations, reason, diverged (``mu_diverged`` stopped it) and
+    per-phase seconds. ``tol`` bounds the
     relative primal and dual residuals and the duality gap (scaled problem). ``c``
     (m,): right-hand side of the yield rows (default 0). ``warm``: a result of an earlier
     solve of the same matrices (keys xh, alpha, vh, s, lamh) to start from, its slacks and
@@ -449,6 +450,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     status, reason = "failed", f"not converged in {max_iter} iterations"
     it = 0
     mu0 = None
+    diverged = False
     best = {"err": np.inf, "it": 0}
     # with ``almost``, one more pass evaluates the last step's point (and takes no step)
     for it in range(1, max_iter + 1 + (almost is not None)):
@@ -483,6 +485,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         mu0 = mu if mu0 is None else mu0
         if mu_diverged is not None and mu > mu_diverged * max(mu0, 1e-300):
             reason = f"mu grew from {mu0:.1e} to {mu:.1e} in {it} iterations: probably no feasible point"
+            diverged = True
             break
         if abs(a) > ALPHA_DIVERGED:
             reason = f"alpha diverges ({a:.3g}): no collapse mechanism under this live load?"
@@ -522,6 +525,6 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     if status != "optimal" and almost is not None and best["err"] <= almost:
         status, reason = "almost", f"{reason}; the best iterate ({best['it']}), residual {best['err']:.1e}, returned"
         x, a, s, z, y = best["x"], best["a"], best["s"], best["z"], best["y"]
-    return {"status": status, "reason": reason, "alpha": a, "xh": x, "vh": y, "lamh": z, "s": s,
-            "iterations": min(it, max_iter),
+    return {"status": status, "reason": reason, "diverged": diverged, "alpha": a, "xh": x, "vh": y, "lamh": z,
+            "s": s, "iterations": min(it, max_iter),
             "setup_s": t_setup, "factor_s": t_fact, "solve_s": time.perf_counter() - t0}

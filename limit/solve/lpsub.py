@@ -16,9 +16,20 @@ from scipy.optimize import linprog
 from limit.solve.solvers import SUBPROBLEM_BACKENDS
 
 
+#: Clarabel statuses that prove an LP has no optimum (infeasible, or unbounded: its dual infeasible)
+CLARABEL_NO_POINT = ("PrimalInfeasible", "AlmostPrimalInfeasible", "DualInfeasible", "AlmostDualInfeasible")
+#: scipy.optimize.linprog statuses that do: 2 infeasible, 3 unbounded (HiGHS's "unbounded or
+#: infeasible" shares 4 with numerical failures, so it is not counted)
+LINPROG_NO_POINT = (2, 3)
+
+
 class LPResult:
-    def __init__(self, ok, z=None, status="", fun=None):
-        self.ok, self.z, self.status, self.fun = ok, z, status, fun
+    """``ok``, ``z`` (the optimum, None unless ok), the backend's ``status`` text, the objective
+    ``fun``, and ``no_point``: the backend proved the LP infeasible or unbounded (so no other
+    backend can give an optimum; a time limit or numerical failure proves nothing)."""
+
+    def __init__(self, ok, z=None, status="", fun=None, no_point=False):
+        self.ok, self.z, self.status, self.fun, self.no_point = ok, z, status, fun, no_point
 
 
 def solve(c, Aeq, beq, Aub, bub, lo, hi, backend: str = "highs", tol: float = 1e-9,
@@ -34,7 +45,8 @@ def solve(c, Aeq, beq, Aub, bub, lo, hi, backend: str = "highs", tol: float = 1e
         if time_limit is not None:
             opts["time_limit"] = float(time_limit)
         res = linprog(c, A_ub=Aub, b_ub=bub, A_eq=Aeq, b_eq=beq, bounds=bounds, method="highs", options=opts)
-        return LPResult(res.status == 0, res.x if res.status == 0 else None, res.message, res.fun)
+        return LPResult(res.status == 0, res.x if res.status == 0 else None, res.message, res.fun,
+                        no_point=res.status in LINPROG_NO_POINT)
     if backend == "clarabel":
         return _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit, almost)
     raise ValueError(f"unknown LP backend {backend!r} (one of {', '.join(SUBPROBLEM_BACKENDS)})")
@@ -69,7 +81,8 @@ def _clarabel(c, Aeq, beq, Aub, bub, lo, hi, tol, time_limit=None, almost=False)
     sol = solver.solve()
     ok = str(sol.status) == "Solved" or (almost and str(sol.status) == "AlmostSolved")
     z = np.array(sol.x) if ok else None
-    return LPResult(ok, z, str(sol.status), float(np.dot(c, z)) if ok else None)
+    return LPResult(ok, z, str(sol.status), float(np.dot(c, z)) if ok else None,
+                    no_point=str(sol.status) in CLARABEL_NO_POINT)
 
 
 class HighsLP:

@@ -21,6 +21,8 @@ reported, and the caller asks a general solver.
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -91,9 +93,19 @@ def null_spaces(Yh: sp.csr_matrix, x_iface: np.ndarray, act: np.ndarray) -> tupl
     return Z, np.repeat(np.arange(n_if), width)
 
 
-def solve(P, flows: np.ndarray, tol: float = 1e-9, max_iter: int = MAX_ITER) -> tuple[float | None, np.ndarray | None, str]:
-    """(alpha, xh (n_x,), note) of the statics piece LP for the flowing faces ``flows`` (bool,
-    (n_faces,)), or (None, None, why) when the interior point method does not converge (an
+class Statics(NamedTuple):
+    """The outcome of :func:`solve`: ``alpha`` and ``xh`` (n_x,), both None on failure; ``note``
+    (how it was solved, or why it failed); ``diverged``: the interior point method stopped on
+    ``mu_diverged`` (:data:`MU_DIVERGED`), which an infeasible piece does; no proof."""
+    alpha: float | None
+    xh: np.ndarray | None
+    note: str
+    diverged: bool = False
+
+
+def solve(P, flows: np.ndarray, tol: float = 1e-9, max_iter: int = MAX_ITER) -> Statics:
+    """The statics piece LP for the flowing faces ``flows`` (bool, (n_faces,)), as a
+    :class:`Statics`: alpha None when the interior point method does not converge (an
     infeasible or unbounded piece among them) or its minimum is below 0."""
     from limit.solve import ipm
 
@@ -108,14 +120,14 @@ def solve(P, flows: np.ndarray, tol: float = 1e-9, max_iter: int = MAX_ITER) -> 
     keep = red > DROP_RTOL * np.maximum(own, 1e-300)
     Yr = Yr[np.flatnonzero(keep)]
     if Yr.shape[0] == 0 or Z.shape[1] == 0:
-        return None, None, "interior point: the flowing faces leave no face to hold"
+        return Statics(None, None, "interior point: the flowing faces leave no face to hold")
     Er = (sp.csr_matrix(P.Eh) @ Z).tocsr()
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # a diverging piece is reported below
         r = ipm.solve(Er, Yr, P.f0h, -np.asarray(P.fLh, float), u_iface, tol=tol, max_iter=max_iter,
                       mu_diverged=MU_DIVERGED)
     if r["status"] != "optimal":
-        return None, None, f"interior point: {r['reason']}"
+        return Statics(None, None, f"interior point: {r['reason']}", bool(r["diverged"]))
     alpha = -float(r["alpha"])
     if alpha < -tol:
-        return None, None, f"interior point: the minimum alpha {alpha:.3g} is below 0"
-    return max(alpha, 0.0), Z @ r["xh"], f"interior point, {r['iterations']} iterations"
+        return Statics(None, None, f"interior point: the minimum alpha {alpha:.3g} is below 0")
+    return Statics(max(alpha, 0.0), Z @ r["xh"], f"interior point, {r['iterations']} iterations")

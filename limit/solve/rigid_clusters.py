@@ -24,10 +24,22 @@ Exact where the relations are: the interfaces of a cycle closed by the tree are 
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import scipy.sparse as sp
 
 from limit.solve import lpsub
+
+
+class Kinematics(NamedTuple):
+    """The outcome of :func:`kinematics`: ``vh`` (n_dof,) and ``lam`` (one per flowing face), both
+    None when the LP has no solution; the LP backend's ``status`` text; ``no_point``: the backend
+    proved that no mechanism flows only on these faces (:attr:`limit.solve.lpsub.LPResult.no_point`)."""
+    vh: np.ndarray | None
+    lam: np.ndarray | None
+    status: str
+    no_point: bool
 
 #: an interface whose block matrix has a condition number above this is not eliminated (its
 #: equations stay in the LP)
@@ -138,10 +150,10 @@ def clusters(P, flows: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
 
 
 def kinematics(P, Gh: sp.csr_matrix, flows: np.ndarray, backend: str = "clarabel",
-               time_limit: float | None = None) -> tuple[np.ndarray | None, np.ndarray | None, str]:
-    """(vh (n_dof,), lamh on the flowing faces, status) of the mechanism that flows only on the
-    faces ``flows`` (n_faces,) bool, or (None, None, status) when the LP has no solution (see the
-    module docstring; ``backend`` and ``time_limit`` as in :func:`limit.solve.lpsub.solve`)."""
+               time_limit: float | None = None) -> Kinematics:
+    """The mechanism that flows only on the faces ``flows`` (n_faces,) bool, as a
+    :class:`Kinematics` (see the module docstring; ``backend`` and ``time_limit`` as in
+    :func:`limit.solve.lpsub.solve`)."""
     act = np.flatnonzero(flows)
     T, explicit = clusters(P, flows)
     rows = np.flatnonzero(explicit[np.asarray(P.model.x_iface)])  # the kept interfaces' action columns
@@ -156,5 +168,6 @@ def kinematics(P, Gh: sp.csr_matrix, flows: np.ndarray, backend: str = "clarabel
     res = lpsub.solve(np.zeros(n), Keq, keq, sp.csr_matrix((0, n)), np.zeros(0), lo, np.full(n, np.inf), backend,
                       time_limit=time_limit, almost=True)
     if not res.ok:
-        return None, None, res.status
-    return T @ res.z[:n_w], np.maximum(res.z[n_w:], 0.0), res.status  # an interior point's -1e-13 clipped
+        return Kinematics(None, None, res.status, res.no_point)
+    # an interior point's -1e-13 clipped
+    return Kinematics(T @ res.z[:n_w], np.maximum(res.z[n_w:], 0.0), res.status, False)

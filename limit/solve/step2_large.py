@@ -75,6 +75,7 @@ LP); 3D 3,024 blocks 260 s, both starts verified, best 0.525765 (7 s more for th
 from __future__ import annotations
 
 import time
+from typing import NamedTuple
 
 import numpy as np
 
@@ -280,7 +281,19 @@ def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
     return [(lab, n0) for lab, n0 in out if n0 is not None]
 
 
-def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | None = None) -> tuple[np.ndarray | None, str]:
+class Snap(NamedTuple):
+    """The outcome of :func:`snap`: the snapped point ``z`` (None on failure; not yet checked),
+    ``note`` (how, or why it failed), ``infeasible``: an LP backend proved that the piece LP has no
+    point (its kinematics or statics infeasible or unbounded: the flowing faces guessed wrong,
+    no other backend can do better), ``diverged``: the structured interior point method's
+    iterates diverged on the statics, which an infeasible piece does (no proof)."""
+    z: np.ndarray | None
+    note: str
+    infeasible: bool = False
+    diverged: bool = False
+
+
+def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | None = None) -> Snap:
     """The piece LP of :func:`limit.solve.nlp.polish`, solved as its two independent parts: with the
     flowing faces fixed, ``min alpha`` involves only the statics (alpha, xh: equilibrium,
     s = 0 on the flowing faces, s >= 0 elsewhere) and the kinematics (vh, lamh >= 0 on the
@@ -302,19 +315,21 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     flows = nlp.flowing_faces(N, z, rule)
     act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
     # kinematics on the rigid clusters of blocks that the faces that do not flow leave (a small LP)
-    vh, lam_act, why = rigid_clusters.kinematics(P, N.Gh, flows, KINEMATICS_BACKEND, time_limit=left())
-    if vh is None:
-        return None, f"piece LP kinematics ({rule}): {why}"
+    kin = rigid_clusters.kinematics(P, N.Gh, flows, KINEMATICS_BACKEND, time_limit=left())
+    if kin.vh is None:
+        return Snap(None, f"piece LP kinematics ({rule}): {kin.status}", infeasible=kin.no_point)
+    vh, lam_act = kin.vh, kin.lam
     lamh = np.zeros(P.model.n_faces)
     lamh[act] = lam_act
     if backend == "ipm":  # the statics on the structured interior point method
         t = left()
         if t is not None and t <= 0:
-            return None, f"piece LP statics ({rule}): time limit reached before the LP"
-        alpha, xh, why = piece_statics.solve(P, flows)
-        if alpha is None:
-            return None, f"piece LP statics ({rule}): {why}"
-        return N.join(alpha, xh, vh, lamh), f"piece LP ({rule}, in two parts; statics {why}) with {act.size} flowing faces"
+            return Snap(None, f"piece LP statics ({rule}): time limit reached before the LP")
+        st = piece_statics.solve(P, flows)
+        if st.alpha is None:
+            return Snap(None, f"piece LP statics ({rule}): {st.note}", diverged=st.diverged)
+        return Snap(N.join(st.alpha, st.xh, vh, lamh),
+                    f"piece LP ({rule}, in two parts; statics {st.note}) with {act.size} flowing faces")
     nx = P.model.n_x
     # statics: [alpha, xh]
     col = sp.csr_matrix(P.fLh.reshape(-1, 1))
@@ -329,8 +344,8 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     st = lpsub.solve(c, Aeq, beq, Aub, np.zeros(hold.size), lo, np.full(1 + nx, np.inf), backend, time_limit=left(),
                      almost=True)
     if not st.ok:
-        return None, f"piece LP statics ({rule}): {st.status}"
-    return N.join(st.z[0], st.z[1:], vh, lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces"
+        return Snap(None, f"piece LP statics ({rule}): {st.status}", infeasible=st.no_point)
+    return Snap(N.join(st.z[0], st.z[1:], vh, lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces")
 
 
 def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend=None, stop=None) -> dict:
@@ -361,11 +376,10 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             proven = []  # piece LPs this backend proved infeasible (no other backend can do better)
 
             def polisher(N_, z_, rule="ratio", backend="highs"):
-                zp, why = snap(N_, z_, rule, backend, until())
-                if zp is None and ("infeasible" in why.lower()
-                                   or SNAP_TRUST_DIVERGED and backend == "ipm" and "no feasible point" in why):
+                out = snap(N_, z_, rule, backend, until())
+                if out.z is None and (out.infeasible or SNAP_TRUST_DIVERGED and out.diverged):
                     proven.append(rule)
-                return zp, why
+                return out.z, out.note
 
             zf, ok, _, _, note = nlp.finish(N, z, alpha_ref, bk, polisher=polisher, unpolished=False,
                                             rules=rules, first=SNAP_FIRST)
