@@ -286,3 +286,22 @@ def test_almost_returns_the_best_iterate_of_an_unfinished_solve():
     assert bare["status"] == "failed" and kept["status"] == "almost" and "best iterate" in kept["reason"]
     assert abs(kept["alpha"] - ref.alpha) <= abs(bare["alpha"] - ref.alpha) + 1e-12
     assert ipm.solve(*args, max_iter=4, almost=1e-12)["status"] == "failed"  # residual above almost
+
+
+def test_a_step1_lp_that_stalls_short_of_its_tolerance_is_checked_not_lost():
+    """lp.IPM_ALMOST: asked for a tolerance no iterate reaches (1e-16; rounding stops the residuals
+    near 1e-12), the method stalls; its best iterate comes back "inaccurate", passes the
+    independent check of step 1 (limit.solve.verify, 1e-6) and gives Clarabel's alpha. With no
+    ``almost`` it is a failure, as every stall was before."""
+    P = assemble(load_scene(B.running_bond_wall(4, 4, dim=3, L=0.4, H=0.3, mu=0.9)))
+    ref, _, _ = solve_lp(P, "clarabel", fallback=False)
+    raw = lpmod.static_lp(P, "ipm", overrides={"tol": 1e-16})
+    assert raw.status == "inaccurate" and raw.cvxpy_status == "ipm almost", raw.reason
+    got, _, _ = solve_lp(P, "ipm", fallback=False)
+    assert got.status == "optimal"
+    from limit.solve import verify
+    ok, _, why = verify.check_lp(P, raw)
+    assert ok, why
+    assert raw.alpha == pytest.approx(ref.alpha, rel=1e-7) and got.alpha == pytest.approx(ref.alpha, rel=1e-7)
+    strict = lpmod.static_lp(P, "ipm", overrides={"tol": 1e-16, "almost": None})
+    assert strict.status == "failed" and strict.alpha is None
