@@ -47,7 +47,10 @@ def _parser() -> argparse.ArgumentParser:
     ps.add_argument("--nlp-solver", choices=["auto", "slsqp", "sla"], default="auto",
                     help="step 2 solver: SLSQP (small problems) or successive LP; auto picks by size")
     ps.add_argument("--global", dest="global_check", action="store_true",
-                    help="also compute the global frictional minimum by mixed-integer LP (scenes up to 30 free blocks)")
+                    help="also compute the global frictional minimum by mixed-integer LP (scenes up to 30 free blocks); "
+                         "a point of it below step 2's alpha that passes the check becomes the answer")
+    ps.add_argument("--global-time-limit", type=float, default=None, metavar="S",
+                    help="wall-clock limit of that MILP in s (default 120); at the limit its best point so far counts")
     ps.add_argument("--iterative-lp", action="store_true",
                     help="also run the iterative LP of Gilbert, Casapulla & Ahmed (2006)")
     ps.add_argument("--arbitrary-start", action="store_true",
@@ -170,6 +173,10 @@ def cmd_solve(args) -> int:
         if not args.nlp_time_budget > 0:
             raise SceneError(f"--nlp-time-budget: must be > 0 s, got {args.nlp_time_budget}")
         nlp_options["time_budget"] = args.nlp_time_budget
+    if args.global_time_limit is not None:
+        if not args.global_time_limit > 0:
+            raise SceneError(f"--global-time-limit: must be > 0 s, got {args.global_time_limit}")
+        nlp_options["global_time_limit"] = args.global_time_limit
     res = analyse(scene, method=args.method, options=opts, solver=args.solver,
                   fallback=not args.no_fallback, check_kinematic=args.check_kinematic, nlp_options=nlp_options)
     print(format_result(res))

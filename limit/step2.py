@@ -174,14 +174,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         part["notes"] = out["notes"]
     part["runs"] = out.get("runs", [])
     if out["ok"]:
-        N, z = out["N"], out["z"]
-        _, x, u, lam = N.unscale(z)
-        cls = mechanism.classify(P, u)
-        part["mechanism"] = mechanism.per_block(P, u)
-        part["normalisation"] = "unit work of the live load: fL . u = 1"
-        part["interfaces"] = interfaces_part(P, P.model.H @ x, cls)
-        part["counts"] = {k: int(v.sum()) for k, v in cls.items()}
-        part["_summary"] = ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]
+        part.update(_point_part(P, out["N"], out["z"]))
     if arbitrary and small:
         arb = run(P, lp_sol, solver=solver, start="arbitrary", backend=backend, restarts=False)
         part["alpha_arbitrary_start"] = arb.get("alpha") if arb.get("ok") else None
@@ -223,17 +216,55 @@ def _large(P, lp_sol, time_budget) -> dict:
             "alpha": out.get("alpha")}
 
 
+def _point_part(P, N, z) -> dict:
+    """The mechanism, interface states and counts of a verified frictional point z (scaled, of N)."""
+    _, x, u, lam = N.unscale(z)
+    cls = mechanism.classify(P, u)
+    return {"mechanism": mechanism.per_block(P, u), "normalisation": "unit work of the live load: fL . u = 1",
+            "interfaces": interfaces_part(P, P.model.H @ x, cls), "counts": {k: int(v.sum()) for k, v in cls.items()},
+            "_summary": ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]}
+
+
+def _adopt_global(P, lp_sol, part, g, entry) -> None:
+    """Make the MILP's point step 2's answer, in place, where it is lower than step 2's alpha by
+    more than LOWER_BY (relative; or step 2 has none) and passes the same independent check
+    (:func:`limit.solve.nlp.finish`: the piece-LP polish, then :func:`limit.solve.nlp.check`).
+    A MILP point is a frictional collapse state like step 2's; an incumbent at the time limit
+    (no proof) counts too. ``part["alpha_step2"]`` keeps the local search's alpha."""
+    a, own = g.get("alpha"), part.get("alpha")
+    if g.get("z") is None or a is None or (own is not None and not a < own - LOWER_BY * abs(own)):
+        return
+    N = build(P)
+    z, ok, res, why, note = nlp.finish(N, g["z"], lp_sol.alpha, "highs")
+    if not ok or (own is not None and not z[N.ia] < own - LOWER_BY * abs(own)):
+        entry["adopted"] = False
+        entry["reason"] = "; ".join(t for t in (entry.get("reason"), f"its point fails the check: {why}" if not ok
+                                                else "below step 2's alpha only before the polish") if t)
+        return
+    entry["adopted"] = True
+    part.update(_point_part(P, N, z))
+    part.update(status="optimal", alpha=float(z[N.ia]), alpha_step2=own, route="global-milp", solver="milp",
+                verification=res,
+                reason=(f"the global MILP's point ({g['status']}; {note}) passed the check below step 2's "
+                        + (f"{own:.6g}" if own is not None else "failure")))
+    part.pop("alpha_rejected", None)
+
+
 def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit):
-    """Add the independent routes (global MILP, iterative LP) to a result part, in place."""
+    """Add the independent routes (global MILP, iterative LP) to a result part, in place. A MILP
+    point below step 2's alpha that passes the check becomes the answer (:func:`_adopt_global`)."""
     n_free = P.n_dof // P.scene.ndof
     if global_check:
         if n_free > GLOBAL_MAX_BLOCKS:
             part["global"] = {"status": "skipped", "reason": f"{n_free} free blocks > {GLOBAL_MAX_BLOCKS}"}
+        elif alpha_ub is None:  # the LP unbounded and step 2 without a point: no bound for the MILP
+            part["global"] = {"status": "skipped", "reason": "no known alpha to bound the MILP"}
         else:
             g = milp.global_minimum(P, alpha_ub, time_limit=time_limit)
             entry = {k: g.get(k) for k in ("status", "alpha", "bound", "time_s", "reason")}
             if g.get("alpha") is not None and part.get("alpha") is not None:
                 entry["gap"] = (part["alpha"] - g["alpha"]) / max(abs(g["alpha"]), 1e-12)
+            _adopt_global(P, lp_sol, part, g, entry)
             part["global"] = entry
     if iterative and lp_sol.status != "optimal":
         part["iterative_lp"] = {"status": "skipped", "alpha": None, "reason": f"the LP is {lp_sol.status}"}

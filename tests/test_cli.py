@@ -87,6 +87,8 @@ def test_solve_exit_1_when_nlp_fails_keeps_lp_bound(tmp_path, monkeypatch, capsy
     (["--nlp-time-budget", "0"], "--nlp-time-budget"),
     (["--nlp-time-budget", "-1"], "--nlp-time-budget"),
     (["--nlp-time-budget", "nan"], "--nlp-time-budget"),
+    (["--global", "--global-time-limit", "0"], "--global-time-limit"),
+    (["--global", "--global-time-limit", "nan"], "--global-time-limit"),
 ])
 def test_solve_rejects_bad_option_values_in_one_line(args, option, capsys, tmp_path):
     """Values argparse lets through but cmd_solve rejects: exit 2, one line on stderr naming the
@@ -106,6 +108,7 @@ def test_solve_rejects_bad_option_values_in_one_line(args, option, capsys, tmp_p
     (["--nlp-solver", "ipopt"], "--nlp-solver"),
     (["--slide-faces", "four"], "--slide-faces"),
     (["--nlp-time-budget", "soon"], "--nlp-time-budget"),
+    (["--global-time-limit", "soon"], "--global-time-limit"),
 ])
 def test_solve_rejects_bad_choices(args, option, capsys):
     """Values argparse itself rejects: exit 2 and a message naming the option."""

@@ -93,6 +93,47 @@ def test_skip_rule_runs_nlp_when_the_lp_point_fails_the_frictional_check(monkeyp
     assert res["alpha"] == pytest.approx(sol.alpha, rel=1e-6)
 
 
+def _step2_routes_fail(monkeypatch):
+    """Stand-ins for both local routes of step 2 (successive and iterative LP): no verified point."""
+    def fail(*a, **k):
+        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+    monkeypatch.setattr(step2, "run", fail)
+    monkeypatch.setattr(step2, "_large", fail)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_checked_milp_point_below_step2_becomes_the_answer(monkeypatch, dim):
+    """With --global, a MILP point below step 2's alpha that passes the same check is the answer
+    (route "global-milp", step 2's own alpha kept in alpha_step2). Step 2's routes are made to
+    fail here, so any point is below; the answer must be the closed form of the two blocks side
+    by side (scenes.builders.side_by_side_alpha, derived there), checked by nlp.check."""
+    from limit.solve import verify
+
+    P, sol = setup(B.side_by_side(dim=dim, mu=0.5))
+    _step2_routes_fail(monkeypatch)
+    res = step2.step2(P, sol, method="nlp", global_check=True)
+    assert res["global"]["status"] == "optimal" and res["global"]["adopted"] is True
+    assert res["status"] == "optimal" and res["route"] == "global-milp" and res["alpha_step2"] is None
+    assert res["alpha"] == pytest.approx(B.side_by_side_alpha(mu=0.5), rel=1e-6)
+    assert res["verification"]["complementarity"] <= verify.TOL_COMP
+    assert set(res["mechanism"]) and res["counts"]["slide"] >= 1 and "alpha_rejected" not in res
+
+
+def test_a_milp_point_that_fails_the_check_is_never_the_answer(monkeypatch):
+    """The same, with the check of the MILP's point forced to fail: step 2 stays "failed" with no
+    alpha, and the global entry says the point was not adopted and why."""
+    P, sol = setup(B.side_by_side(dim=2, mu=0.5))
+    _step2_routes_fail(monkeypatch)
+
+    def finish_fails(N, z, alpha_lp, backend, **k):
+        return z, False, {}, "forced failure", "unpolished"
+    monkeypatch.setattr(nlp, "finish", finish_fails)
+    res = step2.step2(P, sol, method="nlp", global_check=True)
+    assert res["global"]["alpha"] == pytest.approx(B.side_by_side_alpha(mu=0.5), rel=1e-6)
+    assert res["global"]["adopted"] is False and "forced failure" in res["global"]["reason"]
+    assert res["status"] == "failed" and res["alpha"] is None and res.get("route") != "global-milp"
+
+
 def test_skip_rule_runs_nlp_when_lp_mechanism_slides():
     P, sol = setup(B.side_by_side(dim=2, mu=0.5))
     res = step2.step2(P, sol, method="auto")

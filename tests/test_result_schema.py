@@ -75,3 +75,21 @@ def test_broken_results_fail(fault, results, validate):
     BROKEN[fault](res)
     with pytest.raises(fastjsonschema.JsonSchemaValueException):
         validate(res)
+
+
+def test_a_result_whose_answer_is_the_milp_point_validates(tmp_path, monkeypatch, validate):
+    """`limit solve --global --global-time-limit S`, with step 2's own routes made to fail: the
+    MILP's checked point is the answer (route "global-milp", tests/test_nlp.py), and the file
+    still follows the schema."""
+    from limit import step2
+
+    def fail(*a, **k):
+        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+    monkeypatch.setattr(step2, "run", fail)
+    monkeypatch.setattr(step2, "_large", fail)
+    path = tmp_path / "r.json"
+    assert main(["solve", str(CATALOG_DIR / "side-by-side-2d.json"), "--json", str(path), "--method", "nlp",
+                 "--global", "--global-time-limit", "30"]) == 0
+    res = json.loads(path.read_text())
+    validate(res)
+    assert res["nlp"]["route"] == "global-milp" and res["nlp"]["global"]["adopted"] is True

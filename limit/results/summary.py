@@ -30,7 +30,9 @@ def format_result(res: dict) -> str:
         if g:
             a = g.get("alpha")
             lines.append(f"global minimum (MILP): {'alpha = %.6g' % a if a is not None else '-'}  [{g['status']}, "
-                         f"{g.get('time_s') or 0:.3g} s]" + (f"  gap of the NLP {g['gap']:.2e}" if g.get("gap") is not None else ""))
+                         f"{g.get('time_s') or 0:.3g} s]" + (f"  gap of the NLP {g['gap']:.2e}" if g.get("gap") is not None else "")
+                         + {True: "  (its point passed the check: the answer)",
+                            False: "  (its point failed the check: not the answer)"}.get(g.get("adopted"), ""))
         it = nlp.get("iterative_lp")
         if it:
             a = it.get("alpha")
