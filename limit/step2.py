@@ -146,6 +146,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         part = {"status": "skipped", "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
                 "verification": checked, "mechanism": mechanism.per_block(P, lp_sol.u)}
         _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
+        part["time_s"] = time.perf_counter() - t0  # with the independent routes, as below
         return part
     small = not large  # the successive LP's route (an arbitrary start is run below only there)
     if large:

@@ -86,10 +86,12 @@ def entries() -> dict:
     oop["meta"] = {"sweep": {"step": 5},  # the worst direction: half the circle solved, by the symmetry
                    "notes": "The LP's mechanism (overturning about the base edge, t/H) has no sliding, so step 2 "
                             "is skipped and t/H is reported. It is a frictional collapse state but not the lowest: "
-                            "the MILP of limit/solve/milp.py, stopped at 400 s without a proof, found one at "
-                            "0.18723 that passes the independent check (3 interfaces slide, 1 twists, 5 rock), "
-                            "1.7 % lower; step 2 run anyway also stays at t/H, and both engines follow t/H "
-                            "(2026-11-27)."}
+                            "the MILP of limit/solve/milp.py, stopped at 400 s without a proof, found ones that "
+                            "pass the independent check, 0.18723 on one machine and 0.18173 on a faster one "
+                            "(4 interfaces slide, 2 twist, 5 rock), up to 4.6 % lower; `limit solve --global "
+                            "--global-time-limit 400` reports such a point as the answer. Step 2 run anyway stays "
+                            "at t/H, and both engines follow t/H: a monotonic pushover need not reach the "
+                            "lowest frictional collapse state (2026-11-27)."}
     add(oop)
     th = math.radians(30.0)
     obl = B.single_block(dim=3, b=0.4, h=1.0, t=0.25, mu=2.0, name="block-oblique-3d",
