@@ -203,9 +203,15 @@ def prefer_large(alpha_successive: float | None, alpha_large: float | None) -> b
     """Whether solver "auto" below LARGE_MIN_FREE keeps the large route's verified alpha over the
     successive LP's (None: that route did not verify): only when lower by more than LOWER_BY
     (relative), or when the successive LP failed."""
-    if alpha_large is None:
+    return lower(alpha_large, alpha_successive)
+
+
+def lower(candidate: float | None, current: float | None) -> bool:
+    """Whether a verified ``candidate`` alpha replaces the ``current`` one (None: none): it exists
+    and is lower by more than LOWER_BY (relative), or there is no current one."""
+    if candidate is None:
         return False
-    return alpha_successive is None or alpha_large < alpha_successive - LOWER_BY * abs(alpha_successive)
+    return current is None or candidate < current - LOWER_BY * abs(current)
 
 
 def _large(P, lp_sol, time_budget) -> dict:
@@ -233,11 +239,11 @@ def _adopt_global(P, lp_sol, part, g, entry) -> None:
     A MILP point is a frictional collapse state like step 2's; an incumbent at the time limit
     (no proof) counts too. ``part["alpha_step2"]`` keeps the local search's alpha."""
     a, own = g.get("alpha"), part.get("alpha")
-    if g.get("z") is None or a is None or (own is not None and not a < own - LOWER_BY * abs(own)):
+    if g.get("z") is None or not lower(a, own):
         return
     N = build(P)
     z, ok, res, why, note = nlp.finish(N, g["z"], lp_sol.alpha, "highs")
-    if not ok or (own is not None and not z[N.ia] < own - LOWER_BY * abs(own)):
+    if not ok or not lower(float(z[N.ia]), own):
         entry["adopted"] = False
         entry["reason"] = "; ".join(t for t in (entry.get("reason"), f"its point fails the check: {why}" if not ok
                                                 else "below step 2's alpha only before the polish") if t)
