@@ -1,4 +1,5 @@
-"""Command line: ``limit info|solve|check|sweep SCENE.json [--json OUT.json]`` (or ``python -m limit``).
+"""Command line: ``limit info|solve|check|sweep SCENE.json [--json OUT.json]``, ``limit import FILE... -o SCENE.json``
+and ``limit build KIND ... -o SCENE.json`` (or ``python -m limit``).
 
 Exit status (docs/formats.md, 'Commands'): 0 success, 2 rejected input (one line on
 stderr, no traceback), 1 any other failure, 130 interrupted.
@@ -91,7 +92,23 @@ def _parser() -> argparse.ArgumentParser:
     pw.add_argument("--scheduler", default=os.environ.get("DASK_SCHEDULER_ADDRESS"),
                     help="address of an existing Dask scheduler (default: a local cluster)")
     pw.add_argument("--json", metavar="OUT.json", help="write alpha(theta) as JSON")
+    pim = sub.add_parser("import", help="write a scene from CAD or mesh files (OBJ, STL, PLY, DXF)")
+    from scenes.importers.command import add_arguments as import_arguments
+    import_arguments(pim)
+    pb = sub.add_parser("build", help="write a scene of a generated structure (arch, wall, vault, dome)")
+    from scenes.generators.command import add_arguments as build_arguments
+    build_arguments(pb)
     return p
+
+
+def cmd_import(args) -> int:
+    from scenes.importers.command import run
+    return run(args)
+
+
+def cmd_build(args) -> int:
+    from scenes.generators.command import run
+    return run(args)
 
 
 def cmd_check(args) -> int:
@@ -199,7 +216,8 @@ def cmd_info(args) -> int:
     return 0
 
 
-COMMANDS = {"info": cmd_info, "solve": cmd_solve, "check": cmd_check, "sweep": cmd_sweep}
+COMMANDS = {"info": cmd_info, "solve": cmd_solve, "check": cmd_check, "sweep": cmd_sweep, "import": cmd_import,
+            "build": cmd_build}
 
 
 def _one_line_warnings() -> None:
