@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 
 
-def aabbs(blocks) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper corners (n, d) of the blocks' axis-aligned bounding boxes."""
-    lo = np.array([b.poly.vertices.min(axis=0) for b in blocks])
-    hi = np.array([b.poly.vertices.max(axis=0) for b in blocks])
+def aabbs(polys) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper corners (n, d) of the polytopes' axis-aligned bounding boxes."""
+    lo = np.array([p.vertices.min(axis=0) for p in polys])
+    hi = np.array([p.vertices.max(axis=0) for p in polys])
     return lo, hi
 
 

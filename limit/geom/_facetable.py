@@ -1,6 +1,6 @@
-"""All blocks' faces and vertices packed into padded numpy arrays.
+"""All convex pieces' faces and vertices packed into padded numpy arrays.
 
-Block i owns faces ``ptr[i]:ptr[i+1]`` of the flat face arrays. The padded
+A piece is a convex block, or one part of a compound block (``Block.pieces``). Piece i owns faces ``ptr[i]:ptr[i+1]`` of the flat face arrays. The padded
 per-block arrays repeat a block's first face / vertex, which leaves maxima and
 minima over faces or vertices unchanged, so vectorised tests can ignore padding.
 """
@@ -25,8 +25,8 @@ class FaceTable:
     block_verts: np.ndarray     # (n, Vmax, d) padded per block
 
 
-def build(blocks) -> FaceTable:
-    polys = [b.poly for b in blocks]
+def build(polys) -> FaceTable:
+    """The table of the convex polytopes ``polys`` (geometry.Polytope), in their order."""
     n = len(polys)
     d = polys[0].vertices.shape[1]
     nf = np.array([len(p.faces) for p in polys])

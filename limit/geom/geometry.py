@@ -249,3 +249,18 @@ def polygon_area_centroid(P) -> tuple:
 def polytope(points, dim: int, tol: float | None = None) -> Polytope:
     """Convex hull of ``points`` as a polygon (dim 2) or polyhedron (dim 3)."""
     return polygon(points, tol) if dim == 2 else polyhedron(points, tol)
+
+
+def envelope(parts: list[Polytope]) -> Polytope:
+    """The rigid union of convex ``parts`` (a compound block): the convex hull of their vertices,
+    carrying the union's measure (the sum of the parts', which must not overlap) and its
+    centroid (the measure-weighted mean of the parts' centroids). The hull's faces bound the
+    block's extent (bounding box, broad phase, sizes); contacts, drawings and the DEM use the
+    parts themselves."""
+    if len(parts) == 1:
+        return parts[0]
+    pts = np.vstack([p.vertices for p in parts])
+    hull = (polygon if parts[0].dim == 2 else polyhedron)(pts, check_interior=False)
+    m = np.array([p.measure for p in parts])
+    c = (m[:, None] * np.array([p.centroid for p in parts])).sum(axis=0) / m.sum()
+    return Polytope(hull.vertices, hull.face_normals, hull.face_offsets, hull.faces, float(m.sum()), c)

@@ -60,16 +60,29 @@ class Interfaces:
         return [(scene.blocks[i].id, scene.blocks[j].id) for i, j in zip(self.a, self.b)]
 
 
+def pieces(blocks) -> tuple[list, np.ndarray]:
+    """The convex pieces of ``blocks`` in block order (a compound block's parts, else its polytope)
+    and the index of the block that owns each, (P,) non-decreasing."""
+    polys = [p for b in blocks for p in b.pieces]
+    owner = np.repeat(np.arange(len(blocks)), [len(b.pieces) for b in blocks])
+    return polys, owner
+
+
 def find_interfaces(scene) -> Interfaces:
-    """All contact interfaces of ``scene`` (contacts between two fixed blocks excluded)."""
+    """All contact interfaces of ``scene`` (contacts between two fixed blocks excluded).
+
+    Contacts are found between convex pieces: between a compound block's parts and the
+    pieces of other blocks, never between two parts of one block. A pair of blocks has one
+    interface per pair of touching pieces."""
     blocks = scene.blocks
     tol = scene.tolerance
     d = scene.dim
-    ft = facetable.build(blocks)
-    lo, hi = broadphase.aabbs(blocks)
+    polys, owner = pieces(blocks)
+    ft = facetable.build(polys)
+    lo, hi = broadphase.aabbs(polys)
     pa, pb = broadphase.candidate_pairs(lo, hi, tol)
-    fixed = np.array([b.fixed for b in blocks])
-    keep = ~(fixed[pa] & fixed[pb])
+    fixed = np.array([b.fixed for b in blocks])[owner]
+    keep = ~(fixed[pa] & fixed[pb]) & (owner[pa] != owner[pb])
     pa, pb = pa[keep], pb[keep]
 
     fa, fb, pair = _facing_faces(ft, pa, pb, tol)
@@ -79,13 +92,14 @@ def find_interfaces(scene) -> Interfaces:
         res = _contacts_3d(ft, fa, fb, tol)
     ok, fields = res
     pair = pair[ok]
-    a, b = pa[pair], pb[pair]
-    # At most one interface per block pair (convex blocks): keep the largest.
-    order = np.lexsort((-fields["area"], b, a))
+    qa, qb = pa[pair], pb[pair]
+    # At most one interface per pair of convex pieces: keep the largest.
+    order = np.lexsort((-fields["area"], qb, qa))
     first = np.ones(len(order), bool)
-    first[1:] = (a[order][1:] != a[order][:-1]) | (b[order][1:] != b[order][:-1])
+    first[1:] = (qa[order][1:] != qa[order][:-1]) | (qb[order][1:] != qb[order][:-1])
     sel = order[first]
-    sel = sel[np.lexsort((b[sel], a[sel]))]
+    sel = sel[np.lexsort((qb[sel], qa[sel]))]
+    a, b = owner[qa], owner[qb]  # pieces are in block order, so a < b
     mu = np.full(len(sel), scene.friction)
     if scene.friction_pairs:
         for k, (i, j) in enumerate(zip(a[sel], b[sel])):

@@ -12,6 +12,7 @@ import numpy as np
 from scipy.optimize import linprog
 
 from limit.geom import _broadphase as broadphase, _facetable as facetable
+from limit.geom.interfaces import pieces
 from limit.errors import SceneError
 
 
@@ -46,14 +47,22 @@ def common_depth(ft: facetable.FaceTable, i: int, j: int) -> float:
     return float(res.x[-1]) if res.status == 0 else 0.0
 
 
+def _piece_name(blocks, owner, first, k) -> str:
+    b = blocks[owner[k]]
+    return f"'{b.id}'" + (f" (part {k - first[owner[k]]})" if b.parts else "")
+
+
 def check_overlaps(scene) -> None:
-    """Raise SceneError naming the first pair of blocks that overlap beyond the tolerance."""
+    """Raise SceneError naming the first pair of blocks (or parts of compound blocks) that overlap
+    beyond the tolerance. The parts of one compound block must not overlap either."""
     blocks = scene.blocks
-    if len(blocks) < 2:
+    polys, owner = pieces(blocks)
+    if len(polys) < 2:
         return
+    first = np.searchsorted(owner, np.arange(len(blocks)))
     tol = scene.tolerance
-    ft = facetable.build(blocks)
-    lo, hi = broadphase.aabbs(blocks)
+    ft = facetable.build(polys)
+    lo, hi = broadphase.aabbs(polys)
     a, b = broadphase.candidate_pairs(lo, hi, -tol)
     if not len(a):
         return
@@ -64,6 +73,6 @@ def check_overlaps(scene) -> None:
         depth = -sep[k] if scene.dim == 2 else common_depth(ft, i, j)
         if depth > tol:
             raise SceneError(
-                f"blocks '{blocks[i].id}' and '{blocks[j].id}' overlap "
+                f"blocks {_piece_name(blocks, owner, first, i)} and {_piece_name(blocks, owner, first, j)} overlap "
                 f"(penetration {depth:.3g} m, tolerance {tol:.3g} m)"
             )

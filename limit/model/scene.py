@@ -22,7 +22,7 @@ import numpy as np
 
 from limit.geom import geometry
 from limit.errors import SceneError
-from limit.model import dims
+from limit.model import dims, load_checks, units
 
 FORMAT = "blockscene/1"
 DEFAULT_FRICTION = 0.6
@@ -51,10 +51,19 @@ class Block:
     #: indices (into the block's dofs, see :attr:`Scene.ndof`) held at zero: a roller or a
     #: symmetry plane (e.g. ``("y", "rx", "rz")`` on the mirror plane y = 0 of a 3D scene)
     blocked: tuple = ()
+    #: a compound block's convex parts (geometry.Polytope), which move as one rigid body; () for a
+    #: convex block. ``poly`` is then their envelope (geometry.envelope): the hull of all their
+    #: vertices with the union's measure and centroid.
+    parts: tuple = ()
 
     @property
     def centroid(self) -> np.ndarray:
         return self.poly.centroid
+
+    @property
+    def pieces(self) -> tuple:
+        """The convex pieces that make up the block: its parts, or its one polytope."""
+        return self.parts or (self.poly,)
 
 
 @dataclass
@@ -322,6 +331,7 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
     except fastjsonschema.JsonSchemaValueException as err:
         raise SceneError(_schema_message(err, data)) from None
     _unknown_keys(data, strict)
+    data = units.to_metres(data)  # every length in metres from here on
 
     dim = int(data["dim"])
     name = data.get("name") or (Path(path).stem if path else "scene")
@@ -341,26 +351,30 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
             raise SceneError(f"blocks[{i}]: duplicate block id '{bid}' (also blocks[{ids[bid]}])")
         ids[bid] = i
 
-    polys = [_block_polytope(bd, i, dim) for i, bd in enumerate(blocks_data)]
+    pieces = [_block_pieces(bd, i, dim) for i, bd in enumerate(blocks_data)]
+    polys = [geometry.envelope(ps) for ps in pieces]
     allv = np.vstack([p.vertices for p in polys])
     scale = float(np.linalg.norm(np.ptp(allv, axis=0)))
     tolerance = float(data.get("tolerance", RELATIVE_TOLERANCE * scale))
 
     blocks = []
-    for i, (bd, poly) in enumerate(zip(blocks_data, polys)):
+    for i, (bd, poly, parts) in enumerate(zip(blocks_data, polys, pieces)):
         rho = float(bd.get("density", density))
         vol = poly.measure * (thickness if dim == 2 else 1.0)
-        if vol <= (1e-9 * scale) ** dim * (thickness if dim == 2 else 1.0):
-            raise SceneError(f"blocks[{i}] (block '{bd['id']}'): degenerate block with no {'area' if dim == 2 else 'volume'}")
-        # the width across each face (a convex block's least width is across one of its faces in 2D,
-        # and at most that in 3D): a block thinner than the contact tolerance has no usable contact
-        proj = poly.vertices @ poly.face_normals.T
-        width = float(np.min(proj.max(axis=0) - proj.min(axis=0)))
-        if width <= tolerance:
-            raise SceneError(f"blocks[{i}] (block '{bd['id']}'): {width:.3g} m thin, not above the geometric "
-                             f"tolerance {tolerance:.3g} m")
+        for k, part in enumerate(parts):
+            what = f"blocks[{i}] (block '{bd['id']}')" + (f".parts[{k}]" if "parts" in bd else "")
+            if part.measure <= (1e-9 * scale) ** dim:
+                raise SceneError(f"{what}: degenerate block with no {'area' if dim == 2 else 'volume'}")
+            # the width across each face (a convex block's least width is across one of its faces in 2D,
+            # and at most that in 3D): a block thinner than the contact tolerance has no usable contact
+            proj = part.vertices @ part.face_normals.T
+            width = float(np.min(proj.max(axis=0) - proj.min(axis=0)))
+            if width <= tolerance:
+                raise SceneError(f"{what}: {width:.3g} m thin, not above the geometric "
+                                 f"tolerance {tolerance:.3g} m")
         blocks.append(Block(bd["id"], i, poly, bool(bd.get("fixed", False)), rho,
-                            tuple(bd.get("tags", ())), vol, rho * vol, _blocked(bd, i, dim)))
+                            tuple(bd.get("tags", ())), vol, rho * vol, _blocked(bd, i, dim),
+                            tuple(parts) if "parts" in bd else ()))
 
     if not any(b.fixed for b in blocks):
         raise SceneError("blocks: no fixed block (at least one block needs \"fixed\": true to support the others)")
@@ -390,6 +404,7 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
                   slide_fit=data.get("interfaces", {}).get("slide_fit"),
                   demand=_demand(data.get("demand")), fc=(data.get("demand") or {}).get("fc"),
                   symmetry=data.get("symmetry", "none"))
+    load_checks.check_loads(scene)
     if check_overlaps:
         from limit.geom.overlap import check_overlaps as _check
 
@@ -402,13 +417,29 @@ def _check_len(vec, dim, where):
         raise SceneError(f"{where}: has {len(vec)} coordinates, a {dim}D scene needs {dim}")
 
 
+def _block_pieces(bd: dict, i: int, dim: int) -> list:
+    """The block's convex pieces (geometry.Polytope): one for a ``box`` or ``vertices`` block, one
+    per entry of a compound block's ``parts``."""
+    label = f"blocks[{i}] (block '{bd['id']}')"
+    if sum(k in bd for k in ("box", "vertices", "parts")) != 1:
+        raise SceneError(f"{label}: needs exactly one of 'box', 'vertices' or 'parts'")
+    if "parts" not in bd:
+        return [_block_polytope(bd, i, dim)]
+    out = []
+    for k, part in enumerate(bd["parts"]):
+        for j, v in enumerate(part["vertices"]):
+            _check_len(v, dim, f"{label}.parts[{k}].vertices[{j}]")
+        try:
+            out.append(geometry.polytope(part["vertices"], dim))
+        except geometry.GeometryError as exc:
+            raise SceneError(f"{label}.parts[{k}]: {exc}") from None
+    return out
+
+
 def _block_polytope(bd: dict, i: int, dim: int) -> geometry.Polytope:
     label = f"blocks[{i}] (block '{bd['id']}')"
-    has_box, has_vertices = "box" in bd, "vertices" in bd
-    if has_box == has_vertices:
-        raise SceneError(f"{label}: needs exactly one of 'box' or 'vertices'")
     try:
-        if has_box:
+        if "box" in bd:
             bx = bd["box"]
             _check_len(bx["center"], dim, f"{label}.box.center")
             _check_len(bx["size"], dim, f"{label}.box.size")
