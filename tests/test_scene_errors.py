@@ -243,7 +243,7 @@ def test_no_blocks(capsys, write_scene):
 
 def test_box_and_vertices_both(capsys, write_scene):
     d = edited(GOOD2, lambda d: d["blocks"][1].update(vertices=[[0, 0], [1, 0], [0, 1]]))
-    check_rejected(capsys, write_scene(d), "block 'c0-0'", "exactly one of 'box' or 'vertices'")
+    check_rejected(capsys, write_scene(d), "block 'c0-0'", "exactly one of 'box', 'vertices' or 'parts'")
 
 
 def test_subprocess_no_traceback(write_scene):
