@@ -15,6 +15,10 @@ from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (
 from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
 
 
+#: units of every number in a result, whatever the scene file's ``units`` (converted on reading)
+RESULT_UNITS = {"length": "m", "mass": "kg", "force": "N", "time": "s"}
+
+
 def analyse(scene, method: str = "auto", options: Options | None = None, solver: str = lpmod.DEFAULT_SOLVER,
             fallback: bool = True, check_kinematic: bool = False, nlp_options: dict | None = None,
             verdict: bool = True) -> dict:
@@ -38,7 +42,7 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     P = assemble(scene, options)
     sol, attempts, residuals = solve_lp(P, solver, fallback, check_kinematic)
     out = {"scene": scene.name, "dim": scene.dim, "n_blocks": scene.n_blocks,
-           "n_free_blocks": int(len(scene.free)), "n_interfaces": len(P.I)}
+           "n_free_blocks": int(len(scene.free)), "n_interfaces": len(P.I), "units": dict(RESULT_UNITS)}
     out["lp"] = lp_result(P, sol, attempts, residuals, time.perf_counter() - t0)
     if method != "lp":
         out["nlp"] = step2.step2(P, sol, method=method, **(nlp_options or {}))

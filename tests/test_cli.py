@@ -31,7 +31,8 @@ def test_solve_json_keys_and_values(tmp_path):
     p = run_module("limit", "solve", SIDE, "--json", out)
     assert p.returncode == 0, p.stderr
     r = _strict_load(out)
-    assert set(r) == {"scene", "dim", "n_blocks", "n_free_blocks", "n_interfaces", "lp", "nlp"}
+    assert set(r) == {"scene", "dim", "n_blocks", "n_free_blocks", "n_interfaces", "lp", "nlp", "units"}
+    assert r["units"]["length"] == "m"
     assert (r["scene"], r["dim"], r["n_blocks"], r["n_free_blocks"], r["n_interfaces"]) == \
         ("side-by-side-2d", 2, 3, 2, 3)
     assert {"status", "alpha", "time_s", "solver", "timings", "attempts", "model", "verification",

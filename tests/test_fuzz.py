@@ -4,6 +4,13 @@ SceneError (exit 2 at the command line) or analysed to a status, never an intern
 Mutations (seeded, reproducible): a value swapped for an odd one (null, a string, an empty
 list or object, a boolean, 0, -1, 1e308, 1e-12), a key deleted, a number scaled (x0, x-1,
 x1e-9, x1e9). Mutants are analysed by the LP (step 1), the part that sees every input.
+
+Load mutations (:func:`_mutate_loads`): a load's direction or force zeroed, turned, scaled
+or with one component changed; the blocks it selects swapped for a fixed block, a free
+one, "all" or a tag; a point force moved to another block or point; the live loads
+dropped. These mutants run the whole analysis (``method="auto"``): where the LP finds no
+mechanism, step 2 still runs, which is where a live load doing no work once ended in a
+ZeroDivisionError.
 """
 import copy
 import json
@@ -54,6 +61,58 @@ def _mutate(data, rng):
     return d
 
 
+def _vector_key(ld):
+    return {"body_force": "direction", "point_force": "force"}.get(ld.get("type"))
+
+
+def _mutate_loads(data, rng):
+    """One seeded mutation of a scene's loads (see the module docstring)."""
+    d = copy.deepcopy(data)
+    loads = d.setdefault("loads", {})
+    case = "live" if rng.random() < 0.8 or not loads.get("dead") else "dead"
+    items = loads.setdefault(case, [])
+    if not items or rng.random() < 0.05:
+        loads[case] = []
+        return d
+    ld = rng.choice(items)
+    blocks = d["blocks"]
+    dim = d["dim"]
+    kind = rng.choice(["vector", "magnitude", "select", "select", "point"])
+    vk = _vector_key(ld)
+    if kind in ("vector", "magnitude") and vk:
+        vec = [float(x) for x in ld[vk]]
+        if kind == "magnitude":
+            k = rng.choice([0.0, -1.0, 1e-6, 10.0])
+            ld[vk] = [x * k for x in vec]
+        else:
+            j = rng.randrange(dim)
+            vec[j] = rng.choice([0.0, -vec[j], 2.0 * vec[j] + 1.0, 0.0])
+            if rng.random() < 0.3:
+                vec = [rng.choice([0.0, 0.0, 1.0, -1.0]) for _ in range(dim)]
+            ld[vk] = vec
+    elif ld.get("type") == "point_force":
+        b = rng.choice(blocks)
+        if kind == "point" and "box" in b:
+            c, size = b["box"]["center"], b["box"]["size"]
+            ld["point"] = [ci + rng.choice([0.0, 0.25, -0.5, 0.9, 3.0]) * si for ci, si in zip(c, size)]
+        else:
+            ld["block"] = b["id"]
+            ld.pop("point", None)
+    else:
+        fixed = [b["id"] for b in blocks if b.get("fixed")]
+        tags = sorted({t for b in blocks for t in b.get("tags", [])})
+        choice = rng.choice(["fixed", "one", "all", "tags"])
+        if choice == "fixed" and fixed:
+            ld["blocks"] = [rng.choice(fixed)]
+        elif choice == "one":
+            ld["blocks"] = [rng.choice(blocks)["id"]]
+        elif choice == "tags" and tags:
+            ld["blocks"] = {"tags": [rng.choice(tags)]}
+        else:
+            ld["blocks"] = "all"
+    return d
+
+
 @pytest.mark.slow  # about 9 s: analyses every mutant that loads
 def test_catalog_mutants_are_rejected_or_analysed():
     rng = random.Random(SEED)
@@ -73,3 +132,31 @@ def test_catalog_mutants_are_rejected_or_analysed():
         assert res["lp"]["status"] in STATUSES, (k, res["lp"])
         counts["analysed"] += 1
     assert counts["rejected"] > 100 and counts["analysed"] > 100, counts  # both paths exercised
+
+
+LOAD_SEED, LOAD_MUTANTS = 20261127, 120
+
+
+@pytest.mark.slow  # about 30 s: the whole analysis of every mutant that loads
+def test_load_mutants_are_rejected_or_analysed():
+    """Mutated loads are rejected naming the load, or analysed, steps 1 and 2, to a status;
+    among them live loads that do no work on any free block (rejected, naming the load)."""
+    rng = random.Random(LOAD_SEED)
+    scenes = [json.loads(p.read_text()) for p in SMALL]
+    counts = {"rejected": 0, "analysed": 0, "no_work": 0}
+    for k in range(LOAD_MUTANTS):
+        mutant = _mutate_loads(rng.choice(scenes), rng)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SceneWarning)
+            try:
+                res = analyse(load_scene(mutant), method="auto")
+            except SceneError as exc:
+                counts["rejected"] += 1
+                counts["no_work"] += "does no work" in str(exc) or "no live load" in str(exc)
+                continue
+            except Exception as exc:  # noqa: BLE001 - the failure this test exists to catch
+                pytest.fail(f"mutant {k}: internal error {type(exc).__name__}: {exc}\n"
+                            f"{json.dumps(mutant['loads'])}")
+        assert res["lp"]["status"] in STATUSES, (k, res["lp"])
+        counts["analysed"] += 1
+    assert counts["no_work"] >= 3 and counts["analysed"] > 30, counts

@@ -31,6 +31,7 @@ import scipy.sparse as sp
 
 from limit.model import kinematics, loads, scaling, yield_domain
 from limit.geom.interfaces import Interfaces, find_interfaces
+from limit.model.pair_checks import check_friction_pairs
 
 
 @dataclass
@@ -121,10 +122,12 @@ def _check_contacts(scene, I) -> None:
         return
     loose = [scene.blocks[i].id for i in scene.free]
     if loose:
+        from limit.model.pair_checks import gap_phrase
+
         shown = ", ".join(f"'{b}'" for b in loose[:5]) + (f" and {len(loose) - 5} more" if len(loose) > 5 else "")
         raise SceneError(f"block{'s' if len(loose) > 1 else ''} {shown} touch{'es' if len(loose) == 1 else ''} "
-                         f"no other block (no interface within the tolerance {scene.tolerance:.3g} m): "
-                         f"nothing holds {'them' if len(loose) > 1 else 'it'}")
+                         f"no other block, so nothing holds {'them' if len(loose) > 1 else 'it'}: for "
+                         f"'{loose[0]}', {gap_phrase(scene, int(scene.free[0]))}")
 
 
 def assemble(scene, options: Options | None = None, interfaces: Interfaces | None = None) -> Assembled:
@@ -133,6 +136,7 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     t0 = time.perf_counter()
     I = find_interfaces(scene) if interfaces is None else interfaces
     _check_contacts(scene, I)
+    check_friction_pairs(scene, I)
     t1 = time.perf_counter()
     B = kinematics.compatibility(scene, I)
     n_slide, fit = friction_model(scene, options)

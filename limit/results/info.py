@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 from limit.geom.interfaces import find_interfaces
+from limit.model.pair_checks import check_friction_pairs
 
 
 def scene_info(scene, interfaces=None) -> dict:
     """Counts, total mass (kg) and bounding box ([[min...], [max...]], m) of a scene."""
     I = find_interfaces(scene) if interfaces is None else interfaces
+    check_friction_pairs(scene, I)
     return {
         "name": scene.name,
         "dim": scene.dim,
@@ -15,6 +17,7 @@ def scene_info(scene, interfaces=None) -> dict:
         "n_interfaces": len(I),
         "mass": scene.total_mass,
         "bbox": scene.bbox().tolist(),
+        "units": {"length": "m", "mass": "kg"},
     }
 
 

@@ -26,10 +26,13 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
         return sol, attempts, {}
     loose = unsupported_blocks(P)
     if loose:
+        from limit.model.pair_checks import gap_phrase
+
         more = f" and {len(loose) - 5} more" if len(loose) > 5 else ""
+        first = P.scene.block_index()[loose[0]]
         sol = lpmod.LPSolution("infeasible", solver="-", reason=(
-            f"block(s) {', '.join(loose[:5])}{more} touch no other block, so nothing carries their dead load "
-            f"(a gap wider than the contact tolerance, {P.scene.tolerance:.3g} m?)"))
+            f"block(s) {', '.join(loose[:5])}{more} touch no other block, so nothing carries their dead load: "
+            f"for '{loose[0]}', {gap_phrase(P.scene, first)}"))
         return sol, attempts, {}
     chain = [solver] + (lpmod.FALLBACK.get(solver, []) if fallback else [])
     residuals = {}
