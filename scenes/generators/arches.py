@@ -66,7 +66,7 @@ def arch_joints(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, 
 def arch(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, radius=None, pier_height=1.5,
          pier_width=0.5, pier_courses=3, fixed_piers=False, dim=2, depth=None, mu=0.8, density=2000.0,
          name=None) -> dict:
-    """A voussoir arch on two piers with skewbacks (a ``blockscene/1`` dict).
+    """A voussoir arch on two piers with skewbacks; returns a ``blockscene/1`` dict.
 
     kind: 'semicircular', 'pointed' or 'segmental'.
     span: clear span between the piers' inner faces (m).
@@ -78,8 +78,11 @@ def arch(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, radius=
     pier_width: pier width along x (m; at least the ring's horizontal extent at the springing).
     pier_courses: blocks in each pier, the skewback (top course) included.
     fixed_piers: the piers and skewbacks are one fixed block each (an arch between abutments).
-    dim: 2 or 3. depth: 3D extrusion along y (m; default the thickness).
-    mu: friction coefficient. density: kg/m^3.
+    dim: 2 or 3.
+    depth: 3D only, the extrusion along y (m; default the thickness).
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
 
     Blocks: voussoirs 'v0' (right) to 'v{n-1}' (left), tagged 'voussoir' and 'ring', the two at
     the skewbacks also 'springing', the crown one(s) 'key'; piers 'pier-right-k', 'pier-left-k'

@@ -21,13 +21,16 @@ def dome_point(r, lat, lon):
 
 
 def dome(span=3.0, thickness=0.2, meridians=12, rings=4, oculus=False, mu=0.8, density=2000.0, name=None) -> dict:
-    """A hemispherical dome: ``rings`` rings of ``meridians`` voussoirs each and a cap (a
-    ``blockscene/1`` dict).
+    """A hemispherical dome of rings of voussoirs and a cap; returns a ``blockscene/1`` dict.
 
-    span: intrados diameter at the springing (m). thickness: (m). meridians: voussoirs per ring
-    (>= 3). rings: rings, equally spaced in latitude; the cap (or the oculus) spans one more ring's
-    angle at the top. oculus: leave the top open instead of a cap.
-    mu: friction coefficient. density: kg/m^3.
+    span: intrados diameter at the springing (m).
+    thickness: of the shell (m).
+    meridians: voussoirs per ring (>= 3).
+    rings: rings, equally spaced in latitude; the cap (or the oculus) spans one more ring's angle.
+    oculus: leave the top open instead of a cap.
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
 
     Blocks: 'ring{j}-{i}' (ring j from the springing, meridian slice i from +x counter-clockwise),
     tagged 'voussoir', 'ring', 'ring-{j}', 'meridian-{i}', ring 0 also 'springing'; the cap 'cap'

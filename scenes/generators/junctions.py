@@ -56,11 +56,15 @@ def _common(length, height, unit):
 
 def wall_corner(length=2.0, length_b=1.6, height=1.2, unit=(0.4, 0.2, 0.2), mu=0.6, density=2000.0,
                 name=None) -> dict:
-    """Two walls at a right-angle corner with alternate courses interlocking (3D, running bond).
+    """Two walls at a right-angle corner, alternate courses interlocking (3D, running bond).
 
-    length: wall A along x, from the outer corner (m). length_b: wall B along +y, from A's back face (m).
-    height: a whole number of courses (m). unit: (L, W, H): block length, wall thickness and course
-    height (m). mu: friction coefficient. density: kg/m^3.
+    length: wall A along x, from the outer corner (m).
+    length_b: wall B along +y, from A's back face (m).
+    height: a whole number of courses (m).
+    unit: (L, W, H): block length, wall thickness and course height (m).
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
 
     Blocks: wall A 'c{course}-{k}' tagged 'main'; wall B 'B-c{course}-{k}' tagged 'branch' and 'B';
     all 'course-{course}'. Fixed base 'base'. Loads: self weight, 1 g along +x (live).
@@ -74,11 +78,17 @@ def wall_corner(length=2.0, length_b=1.6, height=1.2, unit=(0.4, 0.2, 0.2), mu=0
 
 def wall_tee(length=2.4, length_b=1.6, height=1.2, at=None, unit=(0.4, 0.2, 0.2), mu=0.6, density=2000.0,
              name=None) -> dict:
-    """A T-junction: wall B abuts wall A's back face at x = ``at``, alternate courses running
-    through A (3D, running bond).
+    """A T-junction of two walls, alternate courses of the stem running through (3D, running bond).
 
-    length: wall A along x (m). length_b: wall B along +y beyond A's back face (m). at: B's left face
-    (m; default centred). height, unit, mu, density: as :func:`wall_corner`.
+    Wall B abuts wall A's back face at x = ``at``; in odd courses it runs through A.
+    length: wall A along x (m).
+    length_b: wall B along +y beyond A's back face (m).
+    at: B's left face (m; default centred).
+    height: a whole number of courses (m).
+    unit: (L, W, H): block length, wall thickness and course height (m).
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
     Blocks: as :func:`wall_corner`.
     """
     params = dict(length=length, length_b=length_b, height=height, at=at, unit=tuple(unit), mu=mu,
@@ -95,13 +105,19 @@ def wall_tee(length=2.4, length_b=1.6, height=1.2, at=None, unit=(0.4, 0.2, 0.2)
 
 def buttressed_wall(length=3.2, height=1.6, buttresses=(0.4, 2.4), width=0.4, depth=0.4, buttress_courses=None,
                     unit=(0.4, 0.2, 0.2), mu=0.6, density=2000.0, name=None) -> dict:
-    """A wall with buttresses on its back face (y > T), bonded into it in alternate courses (3D,
-    running bond).
+    """A wall with buttresses bonded into it in alternate courses (3D, running bond).
 
-    length, height: of the wall (m; the height a whole number of courses). buttresses: each
-    buttress's left face along x (m). width: buttress width along x (m). depth: how far it stands
-    out from the wall's back face (m). buttress_courses: its height in courses (default the wall's).
-    unit, mu, density: as :func:`wall_corner`.
+    The buttresses stand on the wall's back face (y > T).
+    length: of the wall along x (m).
+    height: a whole number of courses (m).
+    buttresses: each buttress's left face along x (m).
+    width: buttress width along x (m).
+    depth: how far a buttress stands out from the wall's back face (m).
+    buttress_courses: a buttress's height in courses (default the wall's).
+    unit: (L, W, H): block length, wall thickness and course height (m).
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
     Blocks: the wall 'c{course}-{k}' tagged 'main'; buttress j 'buttress{j}-c{course}-{k}' tagged
     'buttress' and 'buttress{j}'; all 'course-{course}'.
     """

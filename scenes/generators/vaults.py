@@ -18,16 +18,22 @@ from ._common import box3, choice, count, finish, halfspace_vertices, outline_bl
 
 def barrel_vault(span=2.0, thickness=0.2, n=9, rings=4, ring_width=0.3, kind="semicircular", rise=None,
                  stagger=True, abutment_width=None, mu=0.8, density=2000.0, name=None) -> dict:
-    """A barrel vault: ``rings`` voussoir rings side by side along y, between two fixed abutments
-    (a ``blockscene/1`` dict).
+    """A barrel vault of voussoir rings between two fixed abutments; returns a ``blockscene/1`` dict.
 
+    The rings stand side by side along y; each is an arch in the (x, z) plane.
     span: clear span between the springing points (m); the intrados springs at height 0.
-    thickness: ring thickness (m). n: voussoirs per ring. rings: rings along y, each ``ring_width`` (m).
-    kind: 'semicircular' or 'segmental' (with ``rise``, m; default span/4).
+    thickness: ring thickness (m).
+    n: voussoirs per ring.
+    rings: rings along y.
+    ring_width: each ring's width along y (m).
+    kind: 'semicircular' or 'segmental'.
+    rise: segmental only, the intrados rise (m; default span/4).
     stagger: odd rings are shifted by half a voussoir (a half voussoir at each springing), so that
         the radial joints of neighbouring rings alternate; False aligns them (a row of arches).
     abutment_width: along x (m; default the ring's horizontal extent at the springing).
-    mu: friction coefficient. density: kg/m^3.
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
 
     Blocks: 'r{ring}-{k}' (k from the right springing), tagged 'voussoir', 'ring-{ring}', the end
     ones 'springing', the crown one(s) 'key'; fixed abutments 'abutment-right', 'abutment-left'.
@@ -108,18 +114,23 @@ def web_band_halfspaces(ri, re, ta, tb):
 
 def cross_vault(span=2.0, thickness=0.2, n=8, segments=3, stagger=True, mu=0.8, density=2000.0,
                 name=None) -> dict:
-    """A cross (groin) vault over a square bay: two semicircular barrel vaults of intrados radius
-    span/2 crossing at right angles, on four fixed corner piers (a ``blockscene/1`` dict).
+    """A cross (groin) vault over a square bay, on four corner piers; returns a ``blockscene/1`` dict.
 
+    Two semicircular barrel vaults of intrados radius span/2 cross at right angles.
     Each of the four webs (east, north, west, south: the parts of the barrel along x with x >= |y|,
     and their quarter turns about z) is n voussoir courses (bands between radial planes through its
     axis, n even), each cut across its axis into ``segments`` blocks; the webs meet on the vertical
     diagonal planes x = +-y (the groins), where a course of one web and the mirrored course of the
     next share their faces. The vault's plan is the square |x|, |y| <= span/2 + thickness.
-    span: clear span of the four face arches (m). thickness: (m). n: courses per barrel (even).
-    segments: blocks per course along the web's axis. stagger: odd courses cut half a segment
-    further along. The fixed piers are the corner squares under the springings.
-    mu: friction coefficient. density: kg/m^3.
+    The fixed piers are the corner squares under the springings.
+    span: clear span of the four face arches (m).
+    thickness: of the webs (m).
+    n: courses per barrel (even).
+    segments: blocks per course along the web's axis.
+    stagger: odd courses are cut half a segment further along.
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
 
     Blocks: '{web}-{k}-{j}' (course k from the springing on the web's right, segment j from the
     groin), tagged 'voussoir', 'web-{web}', 'course-{k}', 'springing' (k = 0, n - 1), 'groin'

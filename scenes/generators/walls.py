@@ -21,9 +21,10 @@ HEADS = ("lintel", "arch")
 def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), thickness=None, openings=(),
          lintel_bearing=None, arch_courses=2, arch_voussoirs=5, arch_skew_deg=20.0, mu=0.6, density=2000.0,
          name=None) -> dict:
-    """A wall of stretchers and headers (a ``blockscene/1`` dict).
+    """A wall of stretchers and headers, with openings; returns a ``blockscene/1`` dict.
 
-    length, height: of the wall (m); the height is a whole number of courses.
+    length: of the wall along x (m).
+    height: of the wall (m), a whole number of courses.
     bond: 'running', 'english' or 'flemish' (scenes.generators.bonds).
     dim: 2 (the elevation; the scene's thickness is the wall's) or 3.
     unit: (L, W, H), the stretcher's length, its depth (= a header's length) and the course height (m).
@@ -32,12 +33,13 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
     openings: list of {"x", "width", "sill", "height", "head"}: left edge, clear width, sill height
         and clear height (m; sill and sill + height on course lines), head 'lintel' (default) or
         'arch' (a flat arch).
-    lintel_bearing: how far a lintel rests on the wall each side (m; default L/2); a lintel is one
-        course high.
-    arch_courses, arch_voussoirs, arch_skew_deg: a flat arch's height in courses, its voussoirs (odd)
-        and the inclination of its skewbacks from the vertical (degrees); its joints radiate from one
-        point below the opening.
-    mu: friction coefficient. density: kg/m^3.
+    lintel_bearing: how far a lintel (one course high) rests on the wall each side (m; default L/2).
+    arch_courses: a flat arch's height in courses.
+    arch_voussoirs: a flat arch's voussoirs (odd); its joints radiate from one point below the opening.
+    arch_skew_deg: the inclination of a flat arch's skewbacks from the vertical (degrees).
+    mu: friction coefficient.
+    density: kg/m^3.
+    name: the scene's name.
 
     Blocks: 'c{course}-{k}' (and 'c{course}-{k}f'/'...b', the front and back stretchers of a
     two-wythe course in 3D), tagged 'course-{course}' and 'stretcher' or 'header'; 'lintel-{i}'
