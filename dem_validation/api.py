@@ -85,6 +85,10 @@ def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep
     if not len(scene.free):
         return {"status": "stable", "alpha": None, "note": "no free block: nothing can move",
                 "time_s": 0.0, "params": used}
+    compound = [b.id for b in scene.blocks if b.parts]
+    if compound and contact == "polyhedra":
+        return failed(f"contact polyhedra: one convex body per block, and block '{compound[0]}' is compound "
+                      "(the vertex model, the default, clumps its parts)", time_s=0.0, params=used)
     I = find_interfaces(scene) if interfaces is None else interfaces
     f0, fL = dead_and_live(scene)
     try:

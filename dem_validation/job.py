@@ -4,7 +4,9 @@ Everything YADE needs is computed here with :mod:`limit` (validated scene,
 loads, interfaces), so the YADE side needs no project package:
 
 * ``blocks``: per block ``id``, ``fixed``, ``mass`` (kg) and ``vertices``
-  (world coordinates, m, always 3D: a 2D polygon becomes the prism z in [0, t]).
+  (world coordinates, m, always 3D: a 2D polygon becomes the prism z in [0, t]); a
+  compound block also has ``parts``, per convex part its ``vertices`` and ``mass`` (kg, the
+  block's mass shared by volume), and its ``vertices`` are the envelope's (the hull of all).
 * ``f0``, ``fL``: per free block (scene order) the dead and live generalised
   force ``[Fx, Fy, Fz, Mx, My, Mz]`` at its centroid in global axes (N, N m),
   from :func:`limit.model.loads.dead_and_live` (2D ``[Fx, Fy, Mz]`` padded with zeros).
@@ -132,13 +134,18 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
     """The job dict for one YADE run (all the stiffnesses of ``params["eps"]``)."""
     if contact not in CONTACTS:
         raise ValueError(f"contact: expected one of {', '.join(CONTACTS)}, got {contact!r}")
+    def world(poly):
+        v = np.asarray(poly.vertices, dtype=float)
+        return prism_vertices(v, scene.thickness) if scene.dim == 2 else v
+
     blocks = []
     for b in scene.blocks:
-        v = np.asarray(b.poly.vertices, dtype=float)
-        if scene.dim == 2:
-            v = prism_vertices(v, scene.thickness)
-        blocks.append({"id": b.id, "fixed": bool(b.fixed), "mass": float(b.mass), "vertices": v.tolist(),
+        blocks.append({"id": b.id, "fixed": bool(b.fixed), "mass": float(b.mass), "vertices": world(b.poly).tolist(),
                        "blocked": yade_blocked(scene.dim, b.blocked)})
+        if b.parts:
+            total = sum(p.measure for p in b.parts)
+            blocks[-1]["parts"] = [{"vertices": world(p).tolist(), "mass": float(b.mass * p.measure / total)}
+                                   for p in b.parts]
     extra = {}
     if contact == "vertex":
         from .vertex_spheres import inset_directions
@@ -150,13 +157,15 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         law = sphere_radius([verts[i] for i in scene.free] or verts, float(params["vertex_r"]), force, rho_g(scene),
                             a_point, float(params["pen_target"]))
         r_max = radius_at(law, max(params["eps"]))
-        for b, v in zip(blocks, verts):
-            try:
-                d = inset_directions(v, up, r_max)
-            except ValueError as exc:
-                raise ValueError(f"block {b['id']}: {exc}") from None
-            anchors, d = sphere_anchors(v, d, scene.dim, float(scene.thickness))
-            b["sphere_anchors"], b["sphere_dirs"] = anchors.tolist(), d.tolist()
+        for b in blocks:
+            for piece in b.get("parts", [b]):  # a compound block: spheres at each part's vertices
+                v = np.asarray(piece["vertices"])
+                try:
+                    d = inset_directions(v, up, r_max)
+                except ValueError as exc:
+                    raise ValueError(f"block {b['id']}: {exc}") from None
+                anchors, d = sphere_anchors(v, d, scene.dim, float(scene.thickness))
+                piece["sphere_anchors"], piece["sphere_dirs"] = anchors.tolist(), d.tolist()
         extra = {"sphere_radius": law, "point_area": a_point}
     return {
         "format": "dem-job/1",

@@ -73,6 +73,10 @@ class RigidScene:
         g = float(job["gravity_norm"])
         self.blocks = job["blocks"]
         self.free = [i for i, b in enumerate(self.blocks) if not b["fixed"]]
+        compound = [b for b in self.blocks if "parts" in b]
+        if compound:
+            raise Unsupported(f"block {compound[0]['id']} is compound ({len(compound[0]['parts'])} convex parts): "
+                              "compas_lmgc90 0.1.11 builds one convex polyhedron per body (set_one_polyr)")
         self.verts, self.tris, self.volume, self.centroid = [], [], [], []
         for b in self.blocks:  # hulls once: every trial builds its simulation from these
             v = np.asarray(b["vertices"], dtype=float) @ self.Q.T

@@ -70,13 +70,16 @@ class VertexModel(BlockModel):
         self.radius, self.bid, self.owner = [], [], {}
         for i, blk in enumerate(job["blocks"]):
             verts = [Vector3(*v) for v in blk["vertices"]]
-            poly, mass = polyhedron_body(self.mat, blk, fixed=False, mask=POLY_MASK)
-            members = [poly]
-            for v, d in zip(blk["sphere_anchors"], blk["sphere_dirs"]):
-                s = utils.sphere(Vector3(*v) + Vector3(*d) * self.r, self.r, material=self.mat, mask=SPHERE_MASK)
-                s.state.mass = SPHERE_MASS * mass
-                s.state.inertia = Vector3(1, 1, 1) * (0.4 * s.state.mass * self.r ** 2)
-                members.append(s)
+            members, mass = [], 0.0
+            for piece in blk.get("parts", [blk]):  # a compound block: one polyhedron and its spheres per part
+                poly, m = polyhedron_body(self.mat, {"id": blk["id"], **piece}, fixed=False, mask=POLY_MASK)
+                members.append(poly)
+                mass += m
+                for v, d in zip(piece["sphere_anchors"], piece["sphere_dirs"]):
+                    s = utils.sphere(Vector3(*v) + Vector3(*d) * self.r, self.r, material=self.mat, mask=SPHERE_MASK)
+                    s.state.mass = SPHERE_MASS * m
+                    s.state.inertia = Vector3(1, 1, 1) * (0.4 * s.state.mass * self.r ** 2)
+                    members.append(s)
             cid, ids = O.bodies.appendClumped(members)
             clump = O.bodies[cid]
             # the clump's own mass properties: the block's (the spheres' share dropped)

@@ -31,7 +31,8 @@ LABELS = {"lp": "LP (associative)", "nlp": "NLP (frictional)", "dem": "DEM (YADE
 
 
 def _moved(scene, per_block: dict, scale: float):
-    """{block index: displaced vertices} for the free blocks (rigid motion x scale)."""
+    """{block index: [displaced vertices of each of its convex pieces]} for the free blocks (rigid
+    motion x scale; a compound block's parts move together about its centroid)."""
     out = {}
     for i in scene.free:
         b = scene.blocks[i]
@@ -39,8 +40,17 @@ def _moved(scene, per_block: dict, scale: float):
         if m is None:
             continue
         m = np.asarray(m, dtype=float) * scale
-        out[i] = b.poly.vertices + rigid_velocity(m, b.poly.vertices - b.centroid, scene.dim)
+        out[i] = [p.vertices + rigid_velocity(m, p.vertices - b.centroid, scene.dim) for p in b.pieces]
     return out
+
+
+def _outlines(blocks) -> list:
+    """The vertex arrays of every convex piece of ``blocks``."""
+    return [p.vertices for b in blocks for p in b.pieces]
+
+
+def _all_moved(moved: dict) -> list:
+    return [v for vs in moved.values() for v in vs]
 
 
 def _scale(scene, per_block: dict) -> float:
@@ -51,7 +61,8 @@ def _scale(scene, per_block: dict) -> float:
     pts = np.vstack([b.poly.vertices for b in free])
     size = float(np.linalg.norm(np.ptp(pts, axis=0)))
     moved = _moved(scene, per_block, 1.0)
-    disp = max((np.abs(moved[i] - scene.blocks[i].poly.vertices).max() for i in moved), default=0.0)
+    disp = max((np.abs(v - p.vertices).max() for i in moved for v, p in zip(moved[i], scene.blocks[i].pieces)),
+               default=0.0)
     return AMPLIFY * size / disp if disp > 0 else 0.0
 
 
@@ -100,12 +111,12 @@ def mechanism_figure(scene, la: dict, dem: dict | None, path) -> bool:
 
 
 def _draw2d(ax, scene, moved, color, I, ifaces):
-    fixed = [b.poly.vertices for b in scene.blocks if b.fixed]
-    orig = [scene.blocks[i].poly.vertices for i in scene.free]
+    fixed = _outlines(b for b in scene.blocks if b.fixed)
+    orig = _outlines(scene.blocks[i] for i in scene.free)
     ax.add_collection(PolyCollection(fixed, facecolors="#555555", edgecolors="#333333", linewidths=0.6))
     ax.add_collection(PolyCollection(orig, facecolors="none", edgecolors="#999999", linewidths=0.5,
                                      linestyles="dashed"))
-    ax.add_collection(PolyCollection(list(moved.values()), facecolors=color, alpha=0.35, edgecolors=color,
+    ax.add_collection(PolyCollection(_all_moved(moved), facecolors=color, alpha=0.35, edgecolors=color,
                                      linewidths=0.8))
     if I is not None and ifaces:
         segs = {k: [I.polygons[j] for j in ifaces.get(k, []) if j < len(I)] for k in ("slide", "rock", "open")}
@@ -115,7 +126,7 @@ def _draw2d(ax, scene, moved, color, I, ifaces):
         if segs["slide"]:
             ax.add_collection(LineCollection(segs["slide"], colors="#c0392b", linewidths=2.6, label="slides"))
         ax.legend(loc="upper right", fontsize=7, framealpha=0.8)
-    pts = np.vstack([b.poly.vertices for b in scene.blocks] + list(moved.values()))
+    pts = np.vstack([b.poly.vertices for b in scene.blocks] + _all_moved(moved))
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = 0.03 * (hi - lo).max()
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
@@ -137,16 +148,17 @@ def _draw3d(ax, scene, moved, color):
 
     fixed_faces, moved_faces = [], []
     for b in scene.blocks:
-        if b.fixed:
-            fixed_faces += faces(b.poly, b.poly.vertices)
-        elif b.index in moved:
-            moved_faces += faces(b.poly, moved[b.index])
+        for k, p in enumerate(b.pieces):
+            if b.fixed:
+                fixed_faces += faces(p, p.vertices)
+            elif b.index in moved:
+                moved_faces += faces(p, moved[b.index][k])
     # Supports as light wireframes (opaque faces of a large base would hide the blocks).
     ax.add_collection3d(Poly3DCollection(fixed_faces, facecolors=(0.5, 0.5, 0.5, 0.08), edgecolors="#777777",
                                          linewidths=0.4))
     ax.add_collection3d(Poly3DCollection(moved_faces, facecolors=color, edgecolors="#222222", linewidths=0.3,
                                          alpha=0.75))
-    pts = np.vstack([scene.blocks[i].poly.vertices for i in scene.free] + list(moved.values()))
+    pts = np.vstack([scene.blocks[i].poly.vertices for i in scene.free] + _all_moved(moved))
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = 0.08 * (hi - lo).max()
     lo, hi = lo - pad, hi + pad

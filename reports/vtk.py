@@ -1,7 +1,8 @@
 """VTK export of the blocks and their mechanisms, for ParaView.
 
 Legacy VTK POLYDATA (ASCII): every block face is a polygon (2D blocks as one
-polygon in z = 0), each block keeps its own copy of its vertices. Cell data:
+polygon in z = 0; a compound block as its convex parts), each block keeps its own
+copy of its vertices. Cell data:
 ``block`` (index), ``fixed`` (0/1). Point data: one vector field per motion in
 the result file, the velocity of each vertex under that rigid-block motion:
 ``lp_mechanism``, ``nlp_mechanism`` (normalised to unit live-load work) and
@@ -22,8 +23,8 @@ import numpy as np
 from limit.model.dims import rigid_velocity
 
 
-def _vertex_motion(block, m, dim):
-    v = rigid_velocity(m, block.poly.vertices - block.centroid, dim)
+def _vertex_motion(block, piece, m, dim):
+    v = rigid_velocity(m, piece.vertices - block.centroid, dim)
     return np.column_stack([v, np.zeros(len(v))]) if dim == 2 else v
 
 
@@ -43,21 +44,21 @@ def write_vtk(scene, motions: dict, path) -> Path:
     pts, polys, cell_block, cell_fixed = [], [], [], []
     fields = {name: [] for name in motions}
     offset = 0
-    for b in scene.blocks:
-        V = b.poly.vertices
+    for b, piece in ((b, piece) for b in scene.blocks for piece in b.pieces):
+        V = piece.vertices
         V3 = np.column_stack([V, np.zeros(len(V))]) if dim == 2 else V
         pts.append(V3)
         if dim == 2:
             faces = [list(range(len(V)))]
         else:
-            faces = [[int(np.argmin(np.linalg.norm(V - p, axis=1))) for p in f] for f in b.poly.faces]
+            faces = [[int(np.argmin(np.linalg.norm(V - p, axis=1))) for p in f] for f in piece.faces]
         for f in faces:
             polys.append([offset + i for i in f])
             cell_block.append(b.index)
             cell_fixed.append(int(b.fixed))
         for name, mech in motions.items():
             m = mech.get(b.id)
-            fields[name].append(np.zeros((len(V), 3)) if m is None or b.fixed else _vertex_motion(b, m, dim))
+            fields[name].append(np.zeros((len(V), 3)) if m is None or b.fixed else _vertex_motion(b, piece, m, dim))
         offset += len(V)
     P = np.vstack(pts)
     lines = ["# vtk DataFile Version 3.0", f"{scene.name}: blocks and collapse motions", "ASCII",

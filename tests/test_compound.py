@@ -111,3 +111,79 @@ def test_parts_and_box_together_are_rejected():
     d["blocks"][1]["box"] = {"center": [0, 0], "size": [1, 1]}
     with pytest.raises(SceneError, match="exactly one of 'box', 'vertices' or 'parts'"):
         load_scene(d)
+
+
+def compound_springer_arch(n=9, R=1.0, t=0.15, mu=1.0) -> dict:
+    """:func:`scenes.builders.arch` with its two springers compound: voussoirs v0 + v1 and
+    v{n-2} + v{n-1} each one block of two convex parts (their union's intrados is concave)."""
+    from scenes import builders as B
+
+    d = B.arch(n=n, R=R, t=t, mu=mu, name="arch-compound-springers")
+    by_id = {b["id"]: b for b in d["blocks"]}
+    merged = {"springer-right": ("v0", "v1"), "springer-left": (f"v{n - 2}", f"v{n - 1}")}
+    gone = {v for pair in merged.values() for v in pair}
+    d["blocks"] = [b for b in d["blocks"] if b["id"] not in gone] + [
+        {"id": sid, "parts": [{"vertices": by_id[v]["vertices"]} for v in pair], "tags": ["springer"]}
+        for sid, pair in merged.items()]
+    return d
+
+
+def compound_springer_reference(n=9, R=1.0, t=0.15) -> float:
+    """The four-hinge mechanism method (scenes.closed_forms.arch_hinge_alpha, independent of the
+    limit analysis) on the same arch with the joints v0|v1 and v{n-2}|v{n-1} removed: each
+    springer is one body of the two voussoirs' joint ends, summed weight and weighted centroid."""
+    import math
+
+    from limit.geom.geometry import polygon_area_centroid
+    from scenes.closed_forms import arch_hinge_alpha
+
+    ri, re = R - t / 2, R + t / 2
+    phis = np.linspace(0.0, math.pi, n + 1)
+    J = np.array([[[ri * math.cos(p), ri * math.sin(p)], [re * math.cos(p), re * math.sin(p)]] for p in phis])
+    C, W = [], []
+    for k in range(n):
+        A, c = polygon_area_centroid(np.array([J[k, 0], J[k, 1], J[k + 1, 1], J[k + 1, 0]]))
+        C.append(c)
+        W.append(abs(A))
+    C, W = np.array(C), np.array(W)
+
+    def merge(i, j):
+        return (W[i] * C[i] + W[j] * C[j]) / (W[i] + W[j]), W[i] + W[j]
+
+    (c0, w0), (c1, w1) = merge(0, 1), merge(n - 2, n - 1)
+    joints = np.concatenate([J[:1], J[2:n - 1], J[n:]])
+    cents = np.vstack([c0, C[2:n - 2], c1])
+    weights = np.concatenate([[w0], W[2:n - 2], [w1]])
+    return arch_hinge_alpha(joints, cents, weights)["alpha"]
+
+
+def test_compound_springers_arch_hinges_at_the_closed_form():
+    """With mu = 1 no joint slides: the LP and step 2 equal the four-hinge mechanism method on the
+    arch whose springer joints cannot hinge, which lies above the plain arch's value."""
+    from scenes.closed_forms import arch_reference
+
+    ref = compound_springer_reference()
+    assert ref > arch_reference(9, 1.0, 0.15) * 1.001
+    res = analyse(load_scene(compound_springer_arch()), method="nlp")
+    assert res["lp"]["alpha"] == pytest.approx(ref, rel=1e-5)
+    assert res["nlp"]["alpha"] == pytest.approx(ref, rel=1e-5)
+
+
+def test_figures_and_vtk_draw_each_part_moving_with_the_block(tmp_path):
+    """The mechanism drawing moves both parts of the L by the block's rigid motion: the corner
+    (0, 0.2) that the foot and the leg share lands on the same point in both; the VTK file has one
+    polygon per 2D piece (the base's and the L's two)."""
+    from reports.plots import _moved, mechanism_figure
+    from reports.vtk import write_vtk
+
+    s = load_scene(l_block_2d())
+    res = analyse(s, method="lp")
+    mech = res["lp"]["mechanism"]
+    foot, leg = _moved(s, mech, 0.1)[1]
+    k_foot = int(np.argmin(np.linalg.norm(s.blocks[1].parts[0].vertices - [0.0, 0.2], axis=1)))
+    k_leg = int(np.argmin(np.linalg.norm(s.blocks[1].parts[1].vertices - [0.0, 0.2], axis=1)))
+    np.testing.assert_allclose(foot[k_foot], leg[k_leg], atol=1e-12)
+    assert not np.allclose(foot[k_foot], [0.0, 0.2])  # it did move
+    assert mechanism_figure(s, res, None, tmp_path / "m.png") and (tmp_path / "m.png").stat().st_size > 1000
+    text = write_vtk(s, {"lp_mechanism": mech}, tmp_path / "m.vtk").read_text()
+    assert "POLYGONS 3 " in text
