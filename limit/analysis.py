@@ -44,6 +44,8 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     out = {"scene": scene.name, "dim": scene.dim, "n_blocks": scene.n_blocks,
            "n_free_blocks": int(len(scene.free)), "n_interfaces": len(P.I), "units": dict(RESULT_UNITS)}
     out["lp"] = lp_result(P, sol, attempts, residuals, time.perf_counter() - t0)
+    if sol.status == "infeasible":
+        _name_dead_mechanism(P, out["lp"])
     if method != "lp":
         out["nlp"] = step2.step2(P, sol, method=method, **(nlp_options or {}))
         if out["nlp"].get("status") == "optimal" and out["nlp"].get("alpha") is not None and \
@@ -56,6 +58,19 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     out["_assembled"] = P
     out["_lp_solution"] = sol
     return out
+
+
+def _name_dead_mechanism(P, lp: dict) -> None:
+    """Add to an "infeasible" LP part the dead-load mechanism (:mod:`limit.solve.dead_mechanism`)
+    as ``dead_load_mechanism`` and name its blocks and joints in the reason."""
+    from limit.solve import dead_mechanism
+
+    u = dead_mechanism.solve(P)
+    if u is None:
+        return
+    part = dead_mechanism.describe(P, u)
+    lp["dead_load_mechanism"] = part
+    lp["reason"] = f"{lp.get('reason') or 'the dead load alone cannot be carried'}; {dead_mechanism.phrase(part)}"
 
 
 def public(result):
