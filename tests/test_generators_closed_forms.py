@@ -1,0 +1,72 @@
+"""Generated scenes against collapse factors found without :mod:`limit`: the four-hinge mechanism
+search (scenes/closed_forms.arch_hinge_alpha, virtual work over all hinge positions) for arches on
+piers and between abutments, and a wall's overturning t / H. Sliding does not govern at mu = 0.8
+(the alphas are far below mu), so the associative LP must meet the hinging value."""
+import math
+
+import pytest
+
+from limit.analysis import analyse
+from limit.model.scene import load_scene
+from scenes import generators as G
+from scenes.closed_forms import arch_reference
+from scenes.generators.reference import chain_hinge_alpha
+
+
+def _lp(d):
+    res = analyse(load_scene(d), method="lp")
+    assert res["lp"]["status"] == "optimal"
+    return res["lp"]["alpha"]
+
+
+def _pier_chain(d):
+    """The arch on piers as a chain from the base up the right pier, over the ring, down the left pier."""
+    ids = [b["id"] for b in d["blocks"]]
+    right = sorted(i for i in ids if i.startswith("pier-right-")) + ["skewback-right"]
+    left = ["skewback-left"] + sorted((i for i in ids if i.startswith("pier-left-")), reverse=True)
+    n = sum(i.startswith("v") for i in ids)
+    return right + [f"v{k}" for k in range(n)] + left
+
+
+@pytest.mark.parametrize("kw", [dict(kind="semicircular", n=7), dict(kind="pointed", n=6),
+                                dict(kind="segmental", n=7, rise=0.6)], ids=lambda kw: kw["kind"])
+def test_arch_on_piers_four_hinge(kw):
+    """The LP's alpha equals the least four-hinge mechanism of the chain base | pier courses |
+    skewback | voussoirs | skewback | pier courses | base (hinges at either end of any four
+    joints, the pier bases and course joints included), to 1e-6."""
+    d = G.arch(pier_courses=2, mu=0.8, **kw)
+    ref = chain_hinge_alpha(d, _pier_chain(d), "base", "base")
+    assert ref["alpha"] < 0.5
+    assert _lp(d) == pytest.approx(ref["alpha"], rel=1e-6)
+
+
+def test_arch_on_piers_3d_meets_2d_reference():
+    """The 3D arch is the 2D one extruded along y and loaded in its plane: the same four-hinge alpha."""
+    d2 = G.arch("pointed", n=6, pier_courses=2)
+    ref = chain_hinge_alpha(d2, _pier_chain(d2), "base", "base")["alpha"]
+    assert _lp(G.arch("pointed", n=6, pier_courses=2, dim=3, depth=0.5)) == pytest.approx(ref, rel=1e-6)
+
+
+def test_arch_between_abutments_meets_catalog_reference():
+    """With fixed piers the semicircular arch of span s and thickness t is scenes.builders.arch's of
+    centre-line radius R = (s + t)/2: closed_forms.arch_reference(n, R, t) (the catalog's arch reference)."""
+    s, t, n = 2.0, 0.2, 9
+    ref = arch_reference(n, (s + t) / 2, t)
+    assert _lp(G.arch("semicircular", span=s, thickness=t, n=n, fixed_piers=True)) == pytest.approx(ref, rel=1e-6)
+
+
+def test_aligned_barrel_vault_is_a_row_of_arches():
+    """Unstaggered rings are independent arches loaded alike: the vault's alpha is the arch's,
+    closed_forms.arch_reference(n, R, t) with R = (span + t)/2."""
+    s, t, n = 2.0, 0.2, 7
+    ref = arch_reference(n, (s + t) / 2, t)
+    d = G.barrel_vault(span=s, thickness=t, n=n, rings=2, ring_width=0.3, stagger=False)
+    assert _lp(d) == pytest.approx(ref, rel=1e-6)
+
+
+def test_wall_out_of_plane_overturning():
+    """A 3D running-bond wall loaded across (+y) overturns as a whole about its base edge:
+    alpha = T / H (the catalog's wall-out-of-plane-3d closed form), 0.2 / 1.2."""
+    d = G.wall(length=1.6, height=1.2, dim=3, mu=0.8)
+    d["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
+    assert _lp(d) == pytest.approx(0.2 / 1.2, rel=1e-6)
