@@ -75,7 +75,7 @@ def planarize(V: np.ndarray, vertex_planes: list) -> tuple[np.ndarray, float]:
             continue
         N = np.array([p[0] for p in planes])
         d = np.array([p[1] for p in planes])
-        step, *_ = np.linalg.lstsq(N, d - N @ V[i], rcond=1e-9)
+        step, *_ = np.linalg.lstsq(N, d - N @ V[i], rcond=0.05)
         W[i] = V[i] + step
         worst = max(worst, float(np.abs(N @ W[i] - d).max()))
     return W, worst

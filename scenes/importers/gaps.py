@@ -109,7 +109,7 @@ class Snap:
 
 
 def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: float,
-         angle_deg: float = 5.0, min_overlap: float = 0.0) -> Snap:
+         angle_deg: float = 2.0, min_overlap: float = 0.0) -> Snap:
     """Match the faces of different blocks and give each cluster its common mid-plane."""
     by_block: dict[int, list[int]] = {}
     for k, f in enumerate(faces):
@@ -134,8 +134,11 @@ def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: flo
                 continue
             g = 0.5 * (float(da.mean()) + float(db.mean()))
             pairs.append((A[ia], B[ib], g))
-    # clusters by union-find
+    # clusters by union-find, best-fitting pairs first; two clusters join only while every two of
+    # their faces stay (anti-)parallel within the angle tolerance, so that a chain of matches
+    # around a curved joint (a dome's conical bed) does not flatten it into one plane
     parent = list(range(len(faces)))
+    members = {k: [k] for k in range(len(faces))}
 
     def find(k):
         while parent[k] != k:
@@ -143,16 +146,19 @@ def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: flo
             k = parent[k]
         return k
 
-    for a, b, _ in pairs:
+    kept = []
+    for a, b, g in sorted(pairs, key=lambda p: (-abs(float(faces[p[0]].normal @ faces[p[1]].normal)), abs(p[2]))):
         ra, rb = find(a), find(b)
         if ra != rb:
+            Na = np.array([faces[k].normal for k in members[ra]])
+            Nb = np.array([faces[k].normal for k in members[rb]])
+            if np.abs(Na @ Nb.T).min() < cos:
+                continue
             parent[rb] = ra
-    groups: dict[int, list[int]] = {}
-    for a, b, _ in pairs:
-        for k in (a, b):
-            groups.setdefault(find(k), [])
-            if k not in groups[find(k)]:
-                groups[find(k)].append(k)
+            members[ra] += members.pop(rb)
+        kept.append((a, b, g))
+    pairs = kept
+    groups = {r: m for r, m in members.items() if len(m) > 1}
     planes: list = [None] * len(faces)
     clusters = list(groups.values())
     for members in clusters:

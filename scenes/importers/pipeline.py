@@ -29,7 +29,7 @@ from scenes.importers.readers import RawBlock
 class Options:
     gap: float | None = None
     gap_rel: float = 0.15
-    angle_deg: float = 5.0
+    angle_deg: float = 2.0
     flat: float | None = None
     flat_rel: float = 0.01
     vol_tol: float = 0.01
@@ -65,6 +65,7 @@ class Built:
     n_joints: int
     residual: float
     warnings: list
+    moved: float = 0.0
 
 
 def _label(b) -> str:
@@ -101,7 +102,7 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
     snapped = gapsmod.snap(faces, lo, hi, gap, opts.angle_deg) if gap > 0 else gapsmod.Snap([None] * len(faces), [], [])
     plane_of = {owner[k]: p for k, p in enumerate(snapped.planes) if p is not None}
     warnings = []
-    out, worst = [], 0.0
+    out, worst, moved = [], 0.0, 0.0
     for bi, (s, F) in enumerate(zip(solids, fac)):
         # constrained facets: joints (snapped) and flat-enough free faces; the rest split into triangles
         fixed_planes, split_tris = {}, []
@@ -118,6 +119,7 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
                 vp[v].append((n, d))
         V2, res = decompose.planarize(s.vertices, vp)
         worst = max(worst, res)
+        moved = max(moved, float(np.linalg.norm(V2 - s.vertices, axis=1).max()))
         notes = list(s.notes)
         if split_tris:
             notes.append(f"split {len(split_tris)} warped free face(s) into triangles")
@@ -155,7 +157,7 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
     g = np.array([p[2] for p in snapped.pairs]) if snapped.pairs else np.zeros(1)
     return Built(3, out, {"merge": merge, "gap": gap, "flat": flat, "angle_deg": opts.angle_deg,
                           "vol_tol": opts.vol_tol, "median_width": width},
-                 float(max(g.max(), 0.0)), float(max(-g.min(), 0.0)), len(snapped.clusters), worst, warnings)
+                 float(max(g.max(), 0.0)), float(max(-g.min(), 0.0)), len(snapped.clusters), worst, warnings, moved)
 
 
 def _outline(b: RawBlock, merge: float) -> tuple[np.ndarray, list]:
@@ -225,7 +227,7 @@ def build_2d(raw: list[RawBlock], opts: Options) -> Built:
     hi = np.array([Q.max(axis=0) for Q in outl])
     snapped = gapsmod.snap(faces, lo, hi, gap, opts.angle_deg) if gap > 0 else gapsmod.Snap([None] * len(faces), [], [])
     plane_of = {owner[k]: p for k, p in enumerate(snapped.planes) if p is not None}
-    out, worst, warnings = [], 0.0, []
+    out, worst, warnings, moved = [], 0.0, [], 0.0
     for bi, (b, Q, E) in enumerate(zip(raw, outl, fac)):
         k = len(Q)
         lines = {}
@@ -241,6 +243,7 @@ def build_2d(raw: list[RawBlock], opts: Options) -> Built:
                     vp[i].append(lines[f])
         Q2, res = decompose.planarize(Q, vp)
         worst = max(worst, res)
+        moved = max(moved, float(np.linalg.norm(Q2 - Q, axis=1).max()))
         area0 = _area(Q)
         hull_ratio = float(ConvexHull(Q).volume) / area0
         label = f"block '{b.name}' ({b.source})"
@@ -274,4 +277,4 @@ def build_2d(raw: list[RawBlock], opts: Options) -> Built:
     g = np.array([p[2] for p in snapped.pairs]) if snapped.pairs else np.zeros(1)
     return Built(2, out, {"merge": merge, "gap": gap, "flat": flat, "angle_deg": opts.angle_deg,
                           "vol_tol": opts.vol_tol, "median_width": width},
-                 float(max(g.max(), 0.0)), float(max(-g.min(), 0.0)), len(snapped.clusters), worst, warnings)
+                 float(max(g.max(), 0.0)), float(max(-g.min(), 0.0)), len(snapped.clusters), worst, warnings, moved)

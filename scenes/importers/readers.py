@@ -11,8 +11,9 @@ vertices ``(n, d)`` in the file's units, its faces as lists of vertex indices
 * STL, PLY (and any other mesh format trimesh loads): one block per file when
   several files or a folder are given; one file alone is split into its
   connected parts, one block each.
-* DXF (ezdxf): closed LWPOLYLINE / POLYLINE outlines in one plane make a 2D
-  scene, one block each; POLYFACE meshes and 3DFACEs make a 3D scene, grouped
+* DXF (ezdxf): LWPOLYLINE / POLYLINE outlines of three or more points make a 2D
+  scene, one block each (an outline not marked closed is closed from its last
+  point to its first, with a warning); POLYFACE meshes and 3DFACEs make a 3D scene, grouped
   into blocks by shared corners. The entity's layer becomes the block's tag.
 """
 from __future__ import annotations
@@ -194,19 +195,18 @@ def read_dxf(path: Path) -> tuple[int, list[RawBlock]]:
         handle = e.dxf.get("handle", "?")
         if kind == "LWPOLYLINE":
             pts = [(p[0], p[1]) for p in e.get_points("xy")]
-            if e.closed or (len(pts) > 2 and np.allclose(pts[0], pts[-1])):
+            if len(pts) > 2:
                 outlines.append((pts, layer, handle, float(e.dxf.get("elevation", 0.0))))
-            else:
-                open_count += 1
+                if not e.closed and not np.allclose(pts[0], pts[-1]):
+                    open_count += 1
         elif kind == "POLYLINE":
             if e.is_poly_face_mesh or e.is_polygon_mesh:
                 for face in e.faces() if e.is_poly_face_mesh else []:
                     faces3d.append(([tuple(v.dxf.location) for v in face], layer, handle))
-            elif e.is_closed or (len(e.vertices) > 2):
+            elif len(e.vertices) > 2:
                 pts = [tuple(v.dxf.location) for v in e.vertices]
-                if e.is_closed or np.allclose(pts[0], pts[-1]):
-                    outlines.append(([p[:2] for p in pts], layer, handle, float(pts[0][2]) if len(pts[0]) > 2 else 0.0))
-                else:
+                outlines.append(([p[:2] for p in pts], layer, handle, float(pts[0][2]) if len(pts[0]) > 2 else 0.0))
+                if not e.is_closed and not np.allclose(pts[0], pts[-1]):
                     open_count += 1
         elif kind == "3DFACE":
             pts = [tuple(e.dxf.get(f"vtx{i}")) for i in range(4)]
@@ -225,7 +225,8 @@ def read_dxf(path: Path) -> tuple[int, list[RawBlock]]:
                                    [list(range(len(P)))], f"{path.name}:{handle}", [] if layer == "0" else [layer]))
         if open_count:
             import warnings
-            warnings.warn(f"{path}: {open_count} open polyline(s) ignored (only closed outlines are blocks)")
+            warnings.warn(f"{path}: {open_count} polyline(s) neither marked closed nor ending at their start, "
+                          "closed from their last point to their first")
         return 2, blocks
     if faces3d:
         return 3, _group_faces(path, faces3d)
