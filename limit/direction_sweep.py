@@ -69,9 +69,15 @@ def _lp_alpha(args) -> tuple[float, str, float | None, float]:
     from limit.analysis import analyse
     from limit.model.scene import load_scene
 
+    from limit.model.load_checks import NoLiveWork
+
     data, theta = args
     t0 = time.perf_counter()
-    res = analyse(load_scene(_turn(data, theta)), method="lp")
+    try:
+        scene = load_scene(_turn(data, theta))
+    except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
+        return theta, "unbounded", None, time.perf_counter() - t0
+    res = analyse(scene, method="lp")
     lp = res.get("lp") or {}
     return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0
 

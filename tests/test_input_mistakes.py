@@ -215,3 +215,15 @@ def test_solve_draws_the_collapse_mechanism(tmp_path, write_scene, capsys):
 
 def test_builders_scenes_still_carry_their_dead_load():
     assert analyse(load_scene(B.running_bond_wall(2, 2, dim=2)), method="lp")["lp"]["status"] == "optimal"
+
+
+def test_the_direction_sweep_reads_a_direction_that_does_no_work_as_no_mechanism():
+    """A block held in y (a roller): the live load turned onto y does no work there, which the
+    sweep records as "unbounded" (no mechanism) instead of failing."""
+    from limit.direction_sweep import sweep
+
+    data = B.single_block(3, 0.3, 1.0, t=0.3, mu=0.8)
+    data["blocks"][1]["blocked"] = ["y", "rx", "rz"]
+    out = sweep(data, 90.0, jobs=1, frictional=False)
+    status = dict(zip(out["theta"], out["status"]))
+    assert status[90.0] == "unbounded" and status[270.0] == "unbounded" and status[0.0] == "optimal"

@@ -14,6 +14,11 @@ from limit.errors import SceneError
 from limit.model.hull_distance import pieces, point_to_hull
 
 
+class NoLiveWork(SceneError):
+    """The live load does no work on any free block (a rejection; the direction sweep reads it as
+    "no mechanism in this direction")."""
+
+
 def check_loads(scene) -> None:
     """Both checks on a built :class:`~limit.model.scene.Scene`."""
     for case in ("dead", "live"):
@@ -51,10 +56,10 @@ def check_live_work(scene) -> None:
     if np.any(loads.assemble(scene, scene.live).ravel()[keep]):
         return
     if not scene.live:
-        raise SceneError("loads.live: no live load, so alpha multiplies nothing (add one, e.g. "
+        raise NoLiveWork("loads.live: no live load, so alpha multiplies nothing (add one, e.g. "
                          "{\"type\": \"body_force\", \"direction\": [1, 0" + (", 0" if scene.dim == 3 else "") + "]})")
     why = [f"loads.live[{k}] {_no_work(scene, ld, keep)}" for k, ld in enumerate(scene.live)]
-    raise SceneError("the live load does no work on any free block, so alpha multiplies nothing: " + "; ".join(why))
+    raise NoLiveWork("the live load does no work on any free block, so alpha multiplies nothing: " + "; ".join(why))
 
 
 def _no_work(scene, ld: dict, keep) -> str:
