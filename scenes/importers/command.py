@@ -83,7 +83,7 @@ def run(args) -> int:
         dim, raw = readers.read_files(files)
         opts = pipeline.Options(gap=args.gap, flat=args.flat, angle_deg=args.angle, vol_tol=args.volume_tol)
         built = pipeline.build(dim, raw, opts)
-    msgs += [str(w.message) for w in caught if "ezdxf" not in str(w.filename)]
+    msgs += [str(w.message) for w in caught if issubclass(w.category, UserWarning) and "ezdxf" not in str(w.filename)]
     msgs += built.warnings
     scale = SCALE[units]
     width_m = built.tol["median_width"] * scale
