@@ -124,7 +124,9 @@ def run(args) -> int:
         blocks.append(bd)
     allv = np.vstack([(b.vertices if b.parts is None else np.vstack(b.parts)) for b in built.blocks]) * scale
     diag = float(np.linalg.norm(np.ptp(allv, axis=0)))
-    tolerance = max(1e-6 * diag, 4 * built.residual * scale)
+    # the loader's default (1e-6 of the diagonal), or the planes' residual where corners met more
+    # planes than they could lie on, capped at 1e-3 of the median block width
+    tolerance = max(1e-6 * diag, min(4 * built.residual * scale, 1e-3 * width_m))
     vol = sum(b.volume for b in built.blocks) * scale ** dim * (thickness_m if dim == 2 else 1.0)
     mass = float(args.density * vol)
     out = Path(args.output)

@@ -142,6 +142,8 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
                 out.append(OutBlock(s.name, s.source, s.tags, verts, None, s.volume, vol, s.hull_ratio, notes))
             else:
                 parts = decompose.convex_pieces_3d(V2, F.tris, 1e-4 * width)
+                parts = [decompose.snap_to_planes(p, list(fixed_planes.values()), flat, opts.angle_deg, merge)
+                         for p in parts]
                 from scipy.spatial import ConvexHull
 
                 vol = float(sum(ConvexHull(p).volume for p in parts))

@@ -198,8 +198,8 @@ def facets_3d(V: np.ndarray, faces: list, flat_tol: float, max_angle_deg: float 
 
 @dataclass
 class Edges2D:
-    """Facets of one 2D outline: ``loop`` (k,) vertex indices counter-clockwise, ``label`` (k,)
-    the facet of the edge loop[i] -> loop[i+1], ``normal`` (f, 2), ``offset`` (f,), ``warp`` (f,)."""
+    """Facets of one 2D outline: ``loop`` (k,) vertex indices counter-clockwise as given, ``label``
+    (k,) the facet of the edge loop[i] -> loop[i+1] (a facet may wrap around the loop's start), ``normal`` (f, 2), ``offset`` (f,), ``warp`` (f,)."""
 
     loop: np.ndarray
     label: np.ndarray
@@ -242,4 +242,7 @@ def facets_2d(V: np.ndarray, loop: list, flat_tol: float) -> Edges2D:
         normal.append(n)
         offset.append(d)
         warp.append(dev)
-    return Edges2D(loop, label, np.array(normal), np.array(offset), np.array(warp))
+    # labels back in the order of the given loop (edge i runs from its corner i to corner i + 1)
+    in_order = np.empty(k, dtype=int)
+    in_order[(np.arange(k) + start) % k] = label
+    return Edges2D(np.roll(loop, start), in_order, np.array(normal), np.array(offset), np.array(warp))
