@@ -142,6 +142,7 @@ def entries() -> dict:
     add(B.corner_walls(courses=4, len_a=4, len_b=3, name="corner-walls-3d"))
     for d in paper_entries() + benchmark_entries():
         add(d)
+    add(generated_arch_entry())
     for stage, costs in (("dem", DEM_COST_S), ("lmgc", LMGC_COST_S)):
         for name, cost in costs.items():
             out[name].setdefault("meta", {}).setdefault(stage, {})["cost_s"] = float(cost)
@@ -259,6 +260,26 @@ def benchmark_entries() -> list:
                                                            "with the DEM and the MILP."}})
     out.append(tilt)
     return out
+
+
+def generated_arch_entry() -> dict:
+    """A pointed arch on piers with skewbacks from scenes.generators (``limit build arch --kind pointed
+    --n 6 --pier-courses 2``), its reference the four-hinge search over the whole chain, piers included."""
+    from .generators import arch as gen_arch
+    from .generators.reference import chain_hinge_alpha
+
+    d = gen_arch("pointed", span=2.0, thickness=0.25, n=6, pier_height=1.5, pier_width=0.5, pier_courses=2, mu=0.8,
+                 name="arch-pointed-6-on-piers-2d")
+    chain = ["pier-right-0", "skewback-right"] + [f"v{k}" for k in range(6)] + ["skewback-left", "pier-left-0"]
+    ref = chain_hinge_alpha(d, chain, "base", "base")["alpha"]
+    d["expected"] = {"alpha": round(ref, 10), "rtol": 1e-6,
+                     "source": "four-hinge mechanism method over the chain base | pier course | skewback | 6 "
+                               "voussoirs | skewback | pier course | base, hinges at either end of any four "
+                               "joints (scenes/generators/reference.chain_hinge_alpha with scenes/closed_forms."
+                               "arch_hinge_alpha, independent of limit/); sliding does not govern at mu = 0.8"}
+    d["meta"]["notes"] = ("Built by scenes.generators.arch. The mechanism takes the piers with it: hinges at a "
+                          "pier's base, in the ring and at the other pier's base.")
+    return d
 
 
 def _oblique(half_x, half_y, h, theta):
