@@ -3,7 +3,8 @@
 Every generator takes its dimensions in metres, puts the structure on a fixed base or fixed
 supports, tags its blocks (pier, course-k, ring, springing, key, lintel, ...) so that loads and
 joint properties can select them, and loads it with its self weight (dead) and a body force of
-1 g along +x (live). A bad parameter raises :class:`limit.errors.SceneError` (a ValueError) that
+1 g along +x (live). 3D scenes leave the friction model to the solver (24 inscribed sliding faces
+per interface). A bad parameter raises :class:`limit.errors.SceneError` (a ValueError) that
 names it. docs/generators.md shows each one; ``limit build KIND ... -o SCENE.json`` writes them.
 """
 from .arches import arch, arch_joints

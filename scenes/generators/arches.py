@@ -143,7 +143,7 @@ def arch(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, radius=
         tags = ["voussoir", "ring"] + (["springing"] if k in (0, n - 1) else []) + (["key"] if k in key else [])
         blocks.append(outline_block(f"v{k}", _ccw(quad), dim, 0.0, depth, tags=tags))
     sc = B.scene(name or f"arch-{kind}-{n}-on-piers-{dim}d", dim, blocks, friction=float(mu),
-                 density=float(density))
+                 density=float(density), sliding_faces=None)
     return finish(sc, f"{kind.capitalize()} arch of {n} voussoirs on piers", params)
 
 

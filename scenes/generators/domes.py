@@ -55,6 +55,7 @@ def dome(span=3.0, thickness=0.2, meridians=12, rings=4, oculus=False, mu=0.8, d
         top = lats[-1]
         V = [dome_point(r, top, lo) for r in (ri, re) for lo in lons[:-1]] + [[0.0, 0.0, re]]
         blocks.append(B.vertex_block("cap", np.array(V), tags=["cap", "key"]))
-    sc = B.scene(name or f"dome-{nr}x{nm}-3d", 3, blocks, friction=float(mu), density=float(density))
+    sc = B.scene(name or f"dome-{nr}x{nm}-3d", 3, blocks, friction=float(mu), density=float(density),
+                 sliding_faces=None)
     return finish(sc, f"Dome of {nr} rings of {nm} voussoirs" + (" with an oculus" if oculus else " and a cap"),
                   params)

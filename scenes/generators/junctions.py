@@ -39,7 +39,7 @@ def _assemble(name, title, params, length, branches, courses, L, T, H, mu, densi
             for m, (y_a, y_b, _) in enumerate(bonds.cut("running", c + 1, y0, T + bd, L, T)):
                 blocks.append(box3(f"{label}-c{c}-{m}", [bx, y_a, z0], [bx + bw, y_b, z1],
                                    tags=list(tags) + [label, f"course-{c}"]))
-    sc = B.scene(name, 3, blocks, friction=float(mu), density=float(density))
+    sc = B.scene(name, 3, blocks, friction=float(mu), density=float(density), sliding_faces=None)
     return finish(sc, title, params)
 
 

@@ -90,7 +90,7 @@ def barrel_vault(span=2.0, thickness=0.2, n=9, rings=4, ring_width=0.3, kind="se
                 (["key"] if k in key else [])
             blocks.append(outline_block(f"r{j}-{k}", quad, 3, j * b, (j + 1) * b, tags=tags))
     sc = B.scene(name or f"barrel-vault-{kind}-{m}x{n}-3d", 3, blocks, friction=float(mu),
-                 density=float(density))
+                 density=float(density), sliding_faces=None)
     return finish(sc, f"{kind.capitalize()} barrel vault, {m} rings of {n} voussoirs", params)
 
 
@@ -174,7 +174,8 @@ def cross_vault(span=2.0, thickness=0.2, n=8, segments=3, stagger=True, mu=0.8, 
                     (["springing"] if k in (0, n - 1) else []) + (["groin"] if j == 0 else []) + \
                     (["key"] if k in (n // 2 - 1, n // 2) else [])
                 blocks.append(B.vertex_block(f"{_WEBS[w]}-{k}-{j}", V, tags=tags))
-    sc = B.scene(name or f"cross-vault-{n}x{nseg}-3d", 3, blocks, friction=float(mu), density=float(density))
+    sc = B.scene(name or f"cross-vault-{n}x{nseg}-3d", 3, blocks, friction=float(mu), density=float(density),
+                 sliding_faces=None)
     return finish(sc, f"Cross vault, {n} courses per barrel", params)
 
 

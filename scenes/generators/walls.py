@@ -150,7 +150,8 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
                 k += 1
     blocks += heads
     extra = {"thickness": T} if dim == 2 else {}
-    sc = B.scene(name or f"wall-{bond}-{dim}d", dim, blocks, friction=float(mu), density=float(density), **extra)
+    sc = B.scene(name or f"wall-{bond}-{dim}d", dim, blocks, friction=float(mu), density=float(density),
+                 sliding_faces=None, **extra)
     return finish(sc, f"Wall in {bond} bond" + (f" with {len(openings)} opening(s)" if openings else ""), params)
 
 
