@@ -38,7 +38,10 @@ def polytope_vertices(N: np.ndarray, d: np.ndarray, origin: np.ndarray, merge_to
     closer than ``merge_tol`` merged. DecomposeError when the set is empty, flat or unbounded."""
     N = np.asarray(N, dtype=float)
     d = np.asarray(d, dtype=float) - N @ origin
-    c, r = chebyshev_centre(N, d)
+    # the origin itself when it lies well inside (a piece's own centroid), else the Chebyshev centre
+    c, r = np.zeros(N.shape[1]), float(d.min())
+    if not r > 1e-3 * float(np.abs(d).max()):
+        c, r = chebyshev_centre(N, d)
     if not r > merge_tol:
         raise DecomposeError("its face planes enclose no volume")
     try:
@@ -101,7 +104,8 @@ def planarize(V: np.ndarray, vertex_planes: list) -> tuple[np.ndarray, float]:
             continue
         N = np.array([p[0] for p in planes])
         d = np.array([p[1] for p in planes])
-        step, *_ = np.linalg.lstsq(N, d - N @ V[i], rcond=0.05)
+        # rcond 0.2: directions where two planes are within about 23 degrees (tan(23/2) = 0.2) stay put
+        step, *_ = np.linalg.lstsq(N, d - N @ V[i], rcond=0.2)
         W[i] = V[i] + step
         worst = max(worst, float(np.abs(N @ W[i] - d).max()))
     return W, worst

@@ -84,7 +84,7 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
     fac = []
     widths = []
     for s in solids:
-        F = planes.facets_3d(s.vertices, s.faces, merge, split_warped=False)
+        F = planes.facets_3d(s.vertices, s.faces, merge, split_warped=False, face_tris=s.face_tris)
         proj = s.vertices @ F.normal.T - F.offset
         widths.append(float(np.min(-proj.min(axis=0))))
         fac.append(F)

@@ -44,6 +44,8 @@ def triangulate(P: np.ndarray, n: np.ndarray) -> np.ndarray:
     k = len(P)
     if k == 3:
         return np.array([[0, 1, 2]])
+    if k == 4:  # the two diagonals; the DP below gives the same answer, slower
+        return _quad(P, n)
     a = np.eye(3)[np.argmin(np.abs(n))]
     e1 = np.cross(a, n)
     e1 /= np.linalg.norm(e1)
@@ -111,6 +113,30 @@ def triangulate(P: np.ndarray, n: np.ndarray) -> np.ndarray:
     return tri
 
 
+def _least_angles(T: np.ndarray) -> np.ndarray:
+    """Least interior angle of each triangle T (m, 3, 3)."""
+    out = np.full(len(T), np.pi)
+    for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        u, v = T[:, b] - T[:, a], T[:, c] - T[:, a]
+        cosang = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1) + 1e-300)
+        out = np.minimum(out, np.arccos(np.clip(cosang, -1, 1)))
+    return out
+
+
+def _quad(P: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """Triangles of a quad: of its two diagonals, the one whose two triangles both turn the right
+    way about ``n`` and whose worst least angle is larger."""
+    best, arg = -1.0, None
+    for tri in (np.array([[0, 1, 2], [0, 2, 3]]), np.array([[1, 2, 3], [1, 3, 0]])):
+        T = P[tri]
+        s = np.einsum("ij,j->i", np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), n)
+        if np.all(s > 0):
+            q = float(_least_angles(T).min())
+            if q > best:
+                best, arg = q, tri
+    return arg if arg is not None else np.array([[0, 1, 2], [0, 2, 3]])
+
+
 @dataclass
 class Facets:
     """Facets of one 3D block: ``tris`` (t, 3) vertex indices (outward), ``label`` (t,) the
@@ -129,17 +155,18 @@ class Facets:
 
 
 def facets_3d(V: np.ndarray, faces: list, flat_tol: float, max_angle_deg: float = 20.0,
-              split_warped: bool = True) -> Facets:
+              split_warped: bool = True, face_tris: list | None = None) -> Facets:
     """Group the outward polygon ``faces`` of a block into planar facets (see the module).
-    Without ``split_warped`` a polygon stays one facet however warped it is."""
+    Without ``split_warped`` a polygon stays one facet however warped it is. ``face_tris``: each
+    face's triangles (global indices) when already computed."""
     seeds = []  # (triangles (t, 3) global indices)
-    for f in faces:
+    for fi, f in enumerate(faces):
         P = V[f]
         area = newell_normal(P)
         if not np.linalg.norm(area) > 0:
             continue
         n, d, dev = fit_plane(P, area)
-        tri = np.asarray(f)[triangulate(P, n)]
+        tri = face_tris[fi] if face_tris is not None else np.asarray(f)[triangulate(P, n)]
         if dev <= flat_tol or not split_warped:
             seeds.append(tri)
         else:

@@ -189,8 +189,11 @@ def read_dxf(path: Path) -> tuple[int, list[RawBlock]]:
     msp = doc.modelspace()
     outlines, faces3d = [], []
     open_count = 0
+    ignored: dict[str, int] = {}
     for e in msp:
         kind = e.dxftype()
+        if kind not in ("LWPOLYLINE", "POLYLINE", "3DFACE"):
+            ignored[kind] = ignored.get(kind, 0) + 1
         layer = e.dxf.get("layer", "0")
         handle = e.dxf.get("handle", "?")
         if kind == "LWPOLYLINE":
@@ -213,6 +216,10 @@ def read_dxf(path: Path) -> tuple[int, list[RawBlock]]:
             if np.allclose(pts[2], pts[3]):
                 pts = pts[:3]
             faces3d.append((pts, layer, handle))
+    if ignored:
+        import warnings
+        warnings.warn(f"{path}: ignored " + ", ".join(f"{n} {k}" for k, n in sorted(ignored.items()))
+                      + " (only polylines, polyface meshes and 3DFACEs are blocks)")
     if outlines and faces3d:
         raise SceneError(f"{path}: has both closed 2D outlines and 3D faces; import them from separate files")
     if outlines:
@@ -234,35 +241,74 @@ def read_dxf(path: Path) -> tuple[int, list[RawBlock]]:
 
 
 def _group_faces(path: Path, faces3d: list) -> list[RawBlock]:
-    """3D faces grouped into blocks: faces that share a corner (after merging corners
-    closer than 1e-9 of the drawing's size) belong to the same block."""
+    """3D faces grouped into blocks. Corners closer than 1e-9 of the drawing's size are merged;
+    the faces of one POLYFACE entity are one block; loose 3DFACEs are joined across edges that
+    bound exactly two faces (an edge on a joint between two blocks bounds four), and a group left
+    open (a joint face) closes the larger open group whose open edges include its own."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
     pts = np.array([p for f, _, _ in faces3d for p in f], dtype=float)
     scale = float(np.ptp(pts, axis=0).max()) or 1.0
     key = np.round(pts / (1e-9 * scale)).astype(np.int64)
-    _, inv = np.unique(key, axis=0, return_inverse=True)
+    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
     inv = inv.ravel()
     faces, k = [], 0
     for f, _, _ in faces3d:
-        faces.append([int(i) for i in inv[k:k + len(f)]])
+        g = [int(i) for i in inv[k:k + len(f)]]
+        faces.append([v for j, v in enumerate(g) if v != g[j - 1]])
         k += len(f)
-    rows = [i for i, f in enumerate(faces) for _ in f]
-    cols = [v for f in faces for v in f]
     n = len(faces)
-    m = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, int(inv.max()) + 1)).tocsr()
-    ncomp, label = connected_components(m @ m.T, directed=False)
+    edges: dict = {}
+    for i, f in enumerate(faces):
+        for a, b in zip(f, f[1:] + f[:1]):
+            edges.setdefault((min(a, b), max(a, b)), []).append(i)
+    rows, cols = list(range(n)), list(range(n))
+    # faces of one entity (a polyface mesh, or a 3DFACE on its own) belong together
+    by_entity: dict = {}
+    for i, (_, _, handle) in enumerate(faces3d):
+        by_entity.setdefault(handle, []).append(i)
+    for members in by_entity.values():
+        rows += members[1:]
+        cols += members[:-1]
+    for fs in edges.values():
+        if len(fs) == 2:
+            rows.append(fs[0])
+            cols.append(fs[1])
+    m = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
+    _, label = connected_components(m, directed=False)
+
+    def open_edges(members):
+        count: dict = {}
+        for i in members:
+            f = faces[i]
+            for a, b in zip(f, f[1:] + f[:1]):
+                e = (min(a, b), max(a, b))
+                count[e] = count.get(e, 0) + 1
+        return {e for e, c in count.items() if c == 1}
+
+    groups: dict = {}
+    for i, c in enumerate(label):
+        groups.setdefault(int(c), []).append(i)
+    # an open group (a joint face, maybe in triangles) closes a larger open group whose open
+    # edges include all of its own: two coincident joint faces close the blocks on either side
+    opened = {g: open_edges(m) for g, m in groups.items()}
+    for g in sorted((g for g in groups if opened[g]), key=lambda g: len(groups[g])):
+        if not groups[g]:
+            continue
+        for h in sorted(groups, key=lambda h: -len(groups[h])):
+            if h != g and len(groups[h]) > len(groups[g]) and opened[h] and opened[g] <= opened[h]:
+                groups[h] += groups[g]
+                groups[g] = []
+                opened[h] = open_edges(groups[h])
+                break
     out = []
-    for c in range(ncomp):
-        idx = np.flatnonzero(label == c)
+    for c, idx in enumerate(m for m in groups.values() if m):
         used = np.unique([v for i in idx for v in faces[i]])
         remap = {int(u): j for j, u in enumerate(used)}
-        first = np.flatnonzero(inv == used[0])[0]
-        V = pts[[np.flatnonzero(inv == u)[0] for u in used]]
+        V = pts[first[used]]
         layers = sorted({faces3d[i][1] for i in idx} - {"0", ""})
         out.append(RawBlock(f"{_clean(layers[0])}_{c}" if layers else f"block{c}", V,
                             [[remap[v] for v in faces[i]] for i in idx],
                             f"{path.name}:{faces3d[idx[0]][2]}", layers))
-        del first
     return out

@@ -30,6 +30,7 @@ class Solid:
     volume: float
     hull_volume: float
     notes: list
+    face_tris: list | None = None
 
     @property
     def hull_ratio(self) -> float:
@@ -126,6 +127,10 @@ def repair(name: str, source: str, tags: list, V: np.ndarray, faces: list, tol: 
             # by the repair means the polygon is turned
             flipped[k] = tuple(mesh.faces[t]) != tri[t]
     faces = [f[::-1] if flipped[k] else f for k, f in enumerate(faces)]
+    face_tris = [[] for _ in faces]
+    for t, k in enumerate(owner):
+        face_tris[k].append(mesh.faces[t])
+    face_tris = [np.array(ft) for ft in face_tris]
     scale = float(np.ptp(V, axis=0).max())
     if not vol > 1e-9 * scale**3:
         raise SceneError(f"{label}: the mesh encloses no volume")
@@ -136,4 +141,4 @@ def repair(name: str, source: str, tags: list, V: np.ndarray, faces: list, tol: 
     if hull_vol < vol * (1 - 1e-6):
         raise SceneError(f"{label}: the mesh volume {vol:.6g} exceeds its convex hull's {hull_vol:.6g} "
                          "(self-intersecting faces)")
-    return Solid(name, source, list(tags), V, faces, vol, hull_vol, notes)
+    return Solid(name, source, list(tags), V, faces, vol, hull_vol, notes, face_tris)
