@@ -139,3 +139,24 @@ def test_dxf_3dfaces_grouped_into_blocks(tmp_path):
     sc = load_scene(scene)
     assert sorted(b.volume for b in sc.blocks) == pytest.approx([1.0, 1.0], rel=1e-9)
     assert len(find_interfaces(sc)) == 1
+
+
+def test_dxf_2d_concave_outline_is_compound_and_open_polyline_closed(tmp_path):
+    """An L outline (a 2 x 0.5 foot and a 0.5 x 1.5 upright: area 1 + 0.75 = 1.75 m^2) drawn as an
+    LWPOLYLINE not marked closed, on a 3 x 0.2 slab: a compound block of convex parts whose areas
+    sum to 1.75 m^2, and a warning that the outline was closed."""
+    doc = ezdxf.new()
+    msp = doc.modelspace()
+    msp.add_lwpolyline([(-0.5, -0.2), (2.5, -0.2), (2.5, 0), (-0.5, 0)], close=True)
+    msp.add_lwpolyline([(0, 0), (2, 0), (2, 0.5), (0.5, 0.5), (0.5, 2), (0, 2)])
+    f = tmp_path / "l.dxf"
+    doc.saveas(f)
+    rc, scene = _import(tmp_path, f, "--units", "m")
+    assert rc == 0
+    L = [b for b in scene["blocks"] if not b.get("fixed")][0]
+    assert len(L["parts"]) >= 2
+    from scipy.spatial import ConvexHull
+    assert sum(ConvexHull(np.array(p["vertices"])).volume for p in L["parts"]) == pytest.approx(1.75, rel=1e-9)
+    assert any("closed from their last point" in w for w in scene["meta"]["import"]["warnings"])
+    sc = load_scene(scene)
+    assert len(find_interfaces(sc)) >= 1
