@@ -164,6 +164,8 @@ def test_wall_openings_volume(bond, dim):
     (dict(openings=[{"x": 0.0, "width": 0.8, "sill": 0.0, "height": 0.6}]), r"openings\[0\]"),
     (dict(openings=[{"x": 0.4, "width": 0.4, "height": 0.4}, {"x": 1.0, "width": 0.4, "height": 0.4}]),
      r"openings\[1\]"),
+    (dict(openings=[{"x": 0.4, "width": 0.4, "height": 0.4}, {"x": 0.85, "width": 0.4, "height": 0.4}],
+          lintel_bearing=0), "openings"),
     (dict(arch_voussoirs=4), "arch_voussoirs")])
 def test_wall_parameter_errors(kw, name):
     with pytest.raises(SceneError, match=f"^{name}"):
@@ -256,6 +258,19 @@ def test_cross_vault_volume_and_count(segments, stagger):
     assert touching == {b.id for b in sc.blocks}  # every block, the piers included, has a joint
 
 
+def test_cross_vault_compound_groins():
+    """compound_groins, n = 8, one segment: each of the 4 groins joins n/2 pairs, so 4 x 8 blocks become 16 compound blocks of 2 parts; the 16 groin faces are
+    inside blocks now, the 4 x 7 course joints and 8 pier contacts remain (one interface per pair
+    of touching pieces), and the volume is unchanged."""
+    d = G.cross_vault(span=2.0, thickness=0.2, n=8, segments=1, compound_groins=True)
+    sc = load_scene(d)
+    free = [b for b in sc.blocks if not b.fixed]
+    assert len(free) == 16 and all(len(b.parts) == 2 for b in free)
+    assert _n_interfaces(d) == 4 * 7 + 8
+    assert _free_volume(d) == pytest.approx(4 * _web_volume(1.0, 1.2, 8, 1.2), rel=1e-9)
+    assert {"groin", "web-east", "web-north", "course-0", "course-7"} <= _tags(d, "groin-east-0")
+
+
 def _dome_voussoir_volume(ri, re, lats, lons):
     """A voussoir's faces all lie on planes through the sphere's centre O or on its flat intrados
     and extrados, the extrados the intrados scaled by re/ri about O: its volume is the pyramid
@@ -298,6 +313,31 @@ def test_vault_and_dome_errors():
         G.dome(meridians=2)
     with pytest.raises(SceneError, match="^rise"):
         G.barrel_vault(kind="segmental", rise=1.0)
+
+
+# ----------------------------------------------------------------------------
+# Every generator
+
+
+@pytest.mark.parametrize("kind", sorted(G.GENERATORS))
+def test_default_scene_is_sound(kind):
+    """Each generator's default scene loads in strict mode (no key the schema does not know), every
+    block has a joint, the default loads are self weight and 1 g along +x, and the associative LP
+    finds a mechanism with 0 < alpha < 1."""
+    import warnings
+
+    from limit.analysis import analyse
+
+    d = G.GENERATORS[kind]()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sc = load_scene(d, strict=True)
+    assert d["loads"]["dead"] == [{"type": "self_weight"}]
+    assert d["loads"]["live"] == [{"type": "body_force", "direction": [1.0] + [0.0] * (sc.dim - 1)}]
+    touching = {i for pair in find_interfaces(sc).pairs(sc) for i in pair}
+    assert touching == {b.id for b in sc.blocks}
+    res = analyse(sc, method="lp")
+    assert res["lp"]["status"] == "optimal" and 0 < res["lp"]["alpha"] < 1
 
 
 # ----------------------------------------------------------------------------

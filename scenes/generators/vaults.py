@@ -112,8 +112,8 @@ def web_band_halfspaces(ri, re, ta, tb):
     return A, b
 
 
-def cross_vault(span=2.0, thickness=0.2, n=8, segments=3, stagger=True, mu=0.8, density=2000.0,
-                name=None) -> dict:
+def cross_vault(span=2.0, thickness=0.2, n=8, segments=3, stagger=True, compound_groins=False, mu=0.8,
+                density=2000.0, name=None) -> dict:
     """A cross (groin) vault over a square bay, on four corner piers; returns a ``blockscene/1`` dict.
 
     Two semicircular barrel vaults of intrados radius span/2 cross at right angles.
@@ -128,6 +128,9 @@ def cross_vault(span=2.0, thickness=0.2, n=8, segments=3, stagger=True, mu=0.8, 
     n: courses per barrel (even).
     segments: blocks per course along the web's axis.
     stagger: odd courses are cut half a segment further along.
+    compound_groins: each pair of blocks that meet on a groin plane (segment 0 of course k of one
+        web and of course n-1-k of the next) becomes one compound block 'groin-{web}-{k}' whose two
+        convex parts move together: a groin voussoir, L-shaped in plan, bonding the webs.
     mu: friction coefficient.
     density: kg/m^3.
     name: the scene's name.
@@ -137,7 +140,8 @@ def cross_vault(span=2.0, thickness=0.2, n=8, segments=3, stagger=True, mu=0.8, 
     (the blocks on the diagonal planes) and 'key' (the crown courses); fixed piers 'pier-{1..4}'.
     Loads: self weight (dead), 1 g along +x (live).
     """
-    params = dict(span=span, thickness=thickness, n=n, segments=segments, stagger=stagger, mu=mu, density=density)
+    params = dict(span=span, thickness=thickness, n=n, segments=segments, stagger=stagger,
+                  compound_groins=compound_groins, mu=mu, density=density)
     s, t = positive("span", span), positive("thickness", thickness)
     n = count("n", n, 2)
     if n % 2:
@@ -174,9 +178,27 @@ def cross_vault(span=2.0, thickness=0.2, n=8, segments=3, stagger=True, mu=0.8, 
                     (["springing"] if k in (0, n - 1) else []) + (["groin"] if j == 0 else []) + \
                     (["key"] if k in (n // 2 - 1, n // 2) else [])
                 blocks.append(B.vertex_block(f"{_WEBS[w]}-{k}-{j}", V, tags=tags))
+    if compound_groins:
+        blocks = _groin_compounds(blocks, n)
     sc = B.scene(name or f"cross-vault-{n}x{nseg}-3d", 3, blocks, friction=float(mu), density=float(density),
                  sliding_faces=None)
     return finish(sc, f"Cross vault, {n} courses per barrel", params)
+
+
+def _groin_compounds(blocks, n):
+    """Merge segment 0 of course k < n/2 of each web with segment 0 of course n-1-k of the next web
+    (counter-clockwise), the block across its groin plane, into one compound block."""
+    by_id = {b["id"]: b for b in blocks}
+    out = [b for b in blocks if b.get("fixed")]
+    merged = set()
+    for w in range(4):
+        for k in range(n // 2):
+            a, b = by_id[f"{_WEBS[w]}-{k}-0"], by_id[f"{_WEBS[(w + 1) % 4]}-{n - 1 - k}-0"]
+            merged |= {a["id"], b["id"]}
+            tags = list(dict.fromkeys(a["tags"] + b["tags"]))
+            parts = [{"vertices": a["vertices"]}, {"vertices": b["vertices"]}]
+            out.append({"id": f"groin-{_WEBS[w]}-{k}", "parts": parts, "tags": tags})
+    return out + [b for b in blocks if not b.get("fixed") and b["id"] not in merged]
 
 
 def _band_vertices(A, b):

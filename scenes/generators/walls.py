@@ -134,8 +134,12 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
         k = 0
         for j in range(0, len(ends), 2):
             (a, a_t), (b, b_t) = ends[j], ends[j + 1]
-            if min(b, b_t) - max(a, a_t) <= 1e-9:
+            width = min(b, b_t) - max(a, a_t)
+            if width <= 1e-9:
                 continue
+            if width < bonds.min_piece(L, W):
+                raise SceneError(f"openings: course {c} keeps a piece only {width:.4g} m wide between {a:g} and "
+                                 f"{b:g} m (less than {bonds.min_piece(L, W):.4g} m); move or widen the openings")
             pieces = bonds.cut(bond, c, a, b, L, W, a_t, b_t)
             for m, (x0, x1, kind) in enumerate(pieces):
                 x0t = a_t if m == 0 else x0
