@@ -70,3 +70,17 @@ def test_wall_out_of_plane_overturning():
     d = G.wall(length=1.6, height=1.2, dim=3, mu=0.8)
     d["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
     assert _lp(d) == pytest.approx(0.2 / 1.2, rel=1e-6)
+
+
+def test_running_bond_wall_opening_joints_by_virtual_work():
+    """A 2D running-bond wall 1.2 x 1.2 m of 0.4 x 0.4 m blocks (3 courses, the odd one with half
+    blocks at its ends), mu = 1.2: the layout of the catalog's wall-3x3-opening-2d, whose frictional
+    alpha is 5/14 by hand (tests/test_catalog.py: the right half block of course 1 and the block
+    above it turn together about the toe (1.2, 0.4); dead-load work 0.08 x 0.1 + 0.16 x 0.2 = 0.04
+    against live-load work 0.08 x 0.2 + 0.16 x 0.6 = 0.112 per unit rotation) and whose dilatant
+    LP gives alpha_lp = 1, the value of the whole wall overturning about its toe (centroid 0.6 m
+    from the toe and 0.6 m up)."""
+    d = G.wall(length=1.2, height=1.2, unit=(0.4, 0.2, 0.4), mu=1.2)
+    res = analyse(load_scene(d), method="auto")
+    assert res["lp"]["alpha"] == pytest.approx(1.0, rel=1e-6)
+    assert res["nlp"]["alpha"] == pytest.approx(5 / 14, rel=1e-4)
