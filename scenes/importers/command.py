@@ -33,7 +33,7 @@ def add_arguments(p) -> None:
                         "0 keeps every gap open)")
     p.add_argument("--flat", type=float, default=None,
                    help="flatness tolerance of free faces in the files' units (default 0.01 x the median block width)")
-    p.add_argument("--angle", type=float, default=2.0, help="joint faces' angle tolerance in degrees (default 2)")
+    p.add_argument("--angle", type=float, default=5.0, help="joint faces' angle tolerance in degrees (default 5)")
     p.add_argument("--volume-tol", type=float, default=0.01,
                    help="a block whose convex hull exceeds its volume by at most this fraction is one convex block "
                         "(default 0.01); any other becomes a compound block")

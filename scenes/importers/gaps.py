@@ -109,7 +109,7 @@ class Snap:
 
 
 def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: float,
-         angle_deg: float = 2.0, min_overlap: float = 0.0) -> Snap:
+         angle_deg: float = 5.0, min_overlap: float = 0.0) -> Snap:
     """Match the faces of different blocks and give each cluster its common mid-plane."""
     by_block: dict[int, list[int]] = {}
     for k, f in enumerate(faces):
@@ -135,8 +135,9 @@ def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: flo
             g = 0.5 * (float(da.mean()) + float(db.mean()))
             pairs.append((A[ia], B[ib], g))
     # clusters by union-find, best-fitting pairs first; two clusters join only while every two of
-    # their faces stay (anti-)parallel within the angle tolerance, so that a chain of matches
-    # around a curved joint (a dome's conical bed) does not flatten it into one plane
+    # their faces stay (anti-)parallel within the angle tolerance and no block has two faces in
+    # it, so that a chain of matches around a curved joint (a dome's conical bed) does not
+    # flatten it into one plane
     parent = list(range(len(faces)))
     members = {k: [k] for k in range(len(faces))}
 
@@ -154,6 +155,8 @@ def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: flo
             Nb = np.array([faces[k].normal for k in members[rb]])
             if np.abs(Na @ Nb.T).min() < cos:
                 continue
+            if {faces[k].block for k in members[ra]} & {faces[k].block for k in members[rb]}:
+                continue  # one face per block in a joint
             parent[rb] = ra
             members[ra] += members.pop(rb)
         kept.append((a, b, g))

@@ -29,7 +29,7 @@ from scenes.importers.readers import RawBlock
 class Options:
     gap: float | None = None
     gap_rel: float = 0.15
-    angle_deg: float = 2.0
+    angle_deg: float = 5.0
     flat: float | None = None
     flat_rel: float = 0.01
     vol_tol: float = 0.01
