@@ -28,6 +28,11 @@ COLOURS = [("fixed", "#555555"), ("key", "#c0392b"), ("springing", "#e67e22"), (
            ("pier", "#b0a58f"), ("voussoir", "#e8c07d"), ("stretcher", "#deb887")]
 
 
+OPENINGS = [{"x": 0.4, "width": 0.8, "sill": 0.4, "height": 0.6, "head": "lintel"},
+            {"x": 2.0, "width": 0.8, "sill": 0.0, "height": 0.8, "head": "arch"},
+            {"x": 3.6, "width": 0.8, "sill": 0.0, "height": 0.6, "head": "round"}]
+
+
 def colour(block):
     if block.get("fixed"):
         return COLOURS[0][1]
@@ -124,14 +129,12 @@ def main(argv=None):
     fig.tight_layout()
     save(fig, out, "arch")
 
-    fig, axs = plt.subplots(2, 2, figsize=(8, 4.6))
-    draw2d(axs[0, 0], G.wall(length=2.4, height=1.2, bond="running"), "running bond")
-    draw2d(axs[0, 1], G.wall(length=2.4, height=1.2, bond="english"), "English bond")
-    draw2d(axs[1, 0], G.wall(length=2.4, height=1.2, bond="flemish"), "Flemish bond")
-    draw2d(axs[1, 1], G.wall(length=3.2, height=1.6, openings=[
-        {"x": 0.4, "width": 0.8, "sill": 0.4, "height": 0.6, "head": "lintel"},
-        {"x": 2.0, "width": 0.8, "sill": 0.0, "height": 0.8, "head": "arch"}]),
-        "openings: lintel, flat arch")
+    fig = plt.figure(figsize=(9, 4.6))
+    grid = fig.add_gridspec(2, 3, height_ratios=[1, 1.2])
+    for k, bond in enumerate(("running", "english", "flemish")):
+        draw2d(fig.add_subplot(grid[0, k]), G.wall(length=2.4, height=1.2, bond=bond), f"{bond} bond")
+    draw2d(fig.add_subplot(grid[1, :]), G.wall(length=4.8, height=1.6, openings=OPENINGS),
+           "running bond with openings: lintel, flat arch, round arch")
     fig.tight_layout()
     save(fig, out, "wall-2d")
 
@@ -139,10 +142,8 @@ def main(argv=None):
     ax = fig.add_subplot(1, 2, 1, projection="3d")
     draw3d(ax, G.wall(length=2.4, height=1.2, bond="english", dim=3), "English bond, 3D", skip_fixed=True)
     ax = fig.add_subplot(1, 2, 2, projection="3d")
-    draw3d(ax, G.wall(length=3.2, height=1.6, bond="flemish", dim=3, openings=[
-        {"x": 0.4, "width": 0.8, "sill": 0.4, "height": 0.6, "head": "lintel"},
-        {"x": 2.0, "width": 0.8, "sill": 0.0, "height": 0.8, "head": "arch"}]),
-        "Flemish bond, 3D, with openings", skip_fixed=True)
+    draw3d(ax, G.wall(length=4.8, height=1.6, bond="flemish", dim=3, openings=OPENINGS),
+           "Flemish bond, 3D, with openings", skip_fixed=True)
     fig.tight_layout()
     save(fig, out, "wall-3d")
 

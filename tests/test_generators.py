@@ -158,6 +158,33 @@ def test_wall_openings_volume(bond, dim):
         assert any(f"arch-1-{k}" in p and any(q.startswith("c") for q in p) for p in pairs)
 
 
+@pytest.mark.parametrize("bond, dim", [("running", 2), ("flemish", 3)])
+def test_wall_round_arch_opening(bond, dim):
+    """A door 0.8 wide, 0.6 to its springing, under a round arch in a 3.2 x 1.6 m wall (courses of
+    0.2 m). The ring's extrados vertices lie on course lines: K = round(0.4/0.2 + 1) = 3 courses,
+    extrados radius 3 x 0.2 / cos(15 deg), joints at asin(k 0.2 / re) (k = 0..3) on each side and a
+    key of 30 degrees with a level top at 0.6 + 0.6 m. The blocks fill the wall less the door and
+    the semicircle's chord polygon (the sum of r^2 sin(step)/2 over the 7 voussoirs' angle steps,
+    r = 0.4); the key carries the course above; each springer rests on the wall."""
+    re = 0.6 / math.cos(math.radians(15))
+    steps = [math.asin(0.2 * k / re) for k in range(4)]
+    angles = np.diff(steps).tolist()
+    angles = angles + [math.radians(30)] + angles[::-1]
+    void = sum(0.4 ** 2 * math.sin(a) / 2 for a in angles)
+    d = G.wall(length=3.2, height=1.6, bond=bond, dim=dim,
+               openings=[{"x": 1.2, "width": 0.8, "sill": 0.0, "height": 0.6, "head": "round"}])
+    T = 0.2 if bond == "running" else 0.4
+    assert _free_volume(d) == pytest.approx((3.2 * 1.6 - 0.8 * 0.6 - void) * T, rel=1e-12)
+    sc = load_scene(d)
+    key = next(b for b in sc.blocks if b.id == "arch-0-3")
+    top = key.poly.vertices[:, sc.dim - 1].max()
+    assert top == pytest.approx(1.2, abs=1e-12) and "key" in key.tags
+    pairs = find_interfaces(sc).pairs(sc)
+    assert any("arch-0-3" in p and any(q.startswith("c6-") for q in p) for p in pairs)
+    for k in (0, 6):
+        assert any(f"arch-0-{k}" in p and any(q.startswith("c2-") for q in p) for p in pairs)
+
+
 @pytest.mark.parametrize("kw, name", [
     (dict(height=0.5), "height"), (dict(bond="stack"), "bond"), (dict(unit=(0.4, 0.2)), "unit"),
     (dict(openings=[{"x": 0.4, "width": 0.8, "sill": 0.1, "height": 0.6}]), r"openings\[0\].sill"),

@@ -15,7 +15,7 @@ from .. import builders as B
 from . import bonds
 from ._common import choice, count, dimension, finish, outline_block, positive
 
-HEADS = ("lintel", "arch")
+HEADS = ("lintel", "arch", "round")
 
 
 def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), thickness=None, openings=(),
@@ -31,8 +31,8 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
     thickness: the wall's (m); default W for running bond, L for English and Flemish bond, whose
         stretcher courses are two wythes of depth thickness/2 (3D) and whose headers run through.
     openings: list of {"x", "width", "sill", "height", "head"}: left edge, clear width, sill height
-        and clear height (m; sill and sill + height on course lines), head 'lintel' (default) or
-        'arch' (a flat arch).
+        and clear height (m; sill and sill + height on course lines), head 'lintel' (default), 'arch'
+        (a flat arch) or 'round' (a semicircular arch springing at sill + height; see round_head).
     lintel_bearing: how far a lintel (one course high) rests on the wall each side (m; default L/2).
     arch_courses: a flat arch's height in courses.
     arch_voussoirs: a flat arch's voussoirs (odd); its joints radiate from one point below the opening.
@@ -43,8 +43,8 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
 
     Blocks: 'c{course}-{k}' (and 'c{course}-{k}f'/'...b', the front and back stretchers of a
     two-wythe course in 3D), tagged 'course-{course}' and 'stretcher' or 'header'; 'lintel-{i}'
-    tagged 'lintel'; 'arch-{i}-{k}' tagged 'arch' and 'voussoir' (the ends also 'springing', the
-    middle one 'key'); all of opening i's head also 'opening-{i}'. Fixed base 'base'.
+    tagged 'lintel'; 'arch-{i}-{k}' (flat or round arch) tagged 'arch' and 'voussoir' (the ends also
+    'springing', the middle one 'key'); all of opening i's head also 'opening-{i}'. Fixed base 'base'.
     Loads: self weight (dead), a body force of 1 g along +x (live).
     """
     params = dict(length=length, height=height, bond=bond, dim=dim, unit=tuple(unit), thickness=thickness,
@@ -84,11 +84,15 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
             raise SceneError(f"{where}: needs the key {exc.args[0]!r}") from None
         head = choice(f"{where}.head", o.get("head", "lintel"), HEADS)
         c0, c1 = _courses(f"{where}.sill", sill, H, zero=True), _courses(f"{where}.height", sill + h, H)
-        band = 1 if head == "lintel" else na
+        x1 = x0 + w
+        if head == "round":
+            ang, re = round_head(w, H)
+            band = len(ang) - 1
+        else:
+            band = 1 if head == "lintel" else na
         if c1 + band > nc:
             raise SceneError(f"{where}: its {head} ({band} course(s) above the opening) does not fit under the "
                              f"wall's top: raise the height or lower the opening")
-        x1 = x0 + w
         if head == "lintel":
             l0, l1 = x0 - bearing, x1 + bearing
             if l0 < -1e-9 or l1 > Lw + 1e-9:
@@ -105,16 +109,33 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
         if x0 < -1e-9 or x1 > Lw + 1e-9:
             raise SceneError(f"{where}: the opening ({x0:g} to {x1:g} m) leaves the wall (0 to {Lw:g} m)")
         zh, ha = c1 * H, na * H
+        xc = (x0 + x1) / 2
+        for c in range(c0, c1):
+            occupied[c].append((x0, x0, x1, x1, i))
+        if head == "round":
+            if xc - re < -1e-9 or xc + re > Lw + 1e-9:
+                raise SceneError(f"{where}: the round arch's extrados ({xc - re:.4g} to {xc + re:.4g} m) leaves "
+                                 f"the wall (0 to {Lw:g} m)")
+            dx = [re * math.cos(a) for a in ang]
+            for k in range(band):
+                occupied[c1 + k].append((xc - dx[k], xc - dx[k + 1], xc + dx[k], xc + dx[k + 1], i))
+            full = ang + [math.pi - a for a in reversed(ang)]  # joint angles, right springing to left
+            nvr = len(full) - 1
+            for k in range(nvr):
+                a0, a1 = full[k], full[k + 1]
+                pts = [[xc + r * math.cos(a), zh + r * math.sin(a)] for r, a in
+                       ((w / 2, a0), (re, a0), (re, a1), (w / 2, a1))]
+                tags = ["arch", "voussoir", f"opening-{i}"] + (["springing"] if k in (0, nvr - 1) else []) + \
+                    (["key"] if k == nvr // 2 else [])
+                heads.append(outline_block(f"arch-{i}-{k}", pts, dim, 0.0, T, tags=tags))
+            continue
         if x0 - skew * ha < -1e-9 or x1 + skew * ha > Lw + 1e-9:
             raise SceneError(f"{where}: the flat arch's skewbacks leave the wall; move the opening inwards "
                              f"or lower arch_skew_deg")
-        for c in range(c0, c1):
-            occupied[c].append((x0, x0, x1, x1, i))
         for c in range(c1, c1 + na):
             d0, d1 = (c - c1) * H * skew, (c + 1 - c1) * H * skew
             occupied[c].append((x0 - d0, x0 - d1, x1 + d0, x1 + d1, i))
         # joints radiate from (xc, zh - depth): the skewbacks pass through the opening's corners
-        xc = (x0 + x1) / 2
         for k in range(nv):
             xs = [x0 + (k + e) * w / nv for e in (0, 1)]
             tops = [xc + (xk - xc) * (1 + ha * skew / (w / 2)) for xk in xs]
@@ -157,6 +178,21 @@ def wall(length=2.4, height=1.6, bond="running", dim=2, unit=(0.4, 0.2, 0.2), th
     sc = B.scene(name or f"wall-{bond}-{dim}d", dim, blocks, friction=float(mu), density=float(density),
                  sliding_faces=None, **extra)
     return finish(sc, f"Wall in {bond} bond" + (f" with {len(openings)} opening(s)" if openings else ""), params)
+
+
+def round_head(width, H, key_half_deg=15.0):
+    """A round-headed opening's ring: the joint angles from the right springing to the key's
+    joint, and the extrados radius (m). The intrados is the semicircle of radius width/2; the
+    extrados vertices lie on course lines (at heights k H above the springing, k = 0..K), so each
+    course beside the ring meets it along one chord, and the key's flat top, at K H, carries the
+    course above. K = round(width/2/H + 1) and the extrados radius K H / cos(key_half_deg) make
+    the ring about one course thick and the key span 2 key_half_deg degrees."""
+    K = max(1, round(width / 2 / H + 1))
+    re = K * H / math.cos(math.radians(key_half_deg))
+    if re <= width / 2 + 0.25 * H:
+        K += 1
+        re = K * H / math.cos(math.radians(key_half_deg))
+    return [math.asin(k * H / re) for k in range(K + 1)], re
 
 
 def _courses(name, z, H, zero=False):
