@@ -1,9 +1,8 @@
 """Generated scenes against collapse factors found without :mod:`limit`: the four-hinge mechanism
 search (scenes/closed_forms.arch_hinge_alpha, virtual work over all hinge positions) for arches on
-piers and between abutments, and a wall's overturning t / H. Sliding does not govern at mu = 0.8
-(the alphas are far below mu), so the associative LP must meet the hinging value."""
-import math
-
+piers and between abutments, where sliding does not govern at mu = 0.8 (the alphas are far below
+mu) so the associative LP must meet the hinging value; and walls' closed forms by virtual work
+(overturning t / H across a 3D wall, the catalog's 5/14 in a 2D running-bond wall)."""
 import pytest
 
 from limit.analysis import analyse

@@ -12,7 +12,6 @@ import argparse
 import inspect
 import json
 import re
-import sys
 
 from limit.errors import SceneError
 
