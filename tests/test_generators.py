@@ -85,7 +85,8 @@ def test_arch_3d_is_the_2d_outline_extruded():
 
 @pytest.mark.parametrize("kw, name", [(dict(kind="gothic"), "kind"), (dict(kind="pointed", n=7), "n"),
                                       (dict(pier_width=0.1), "pier_width"), (dict(span=-1), "span"),
-                                      (dict(kind="segmental", rise=1.5), "rise"), (dict(dim=4), "dim")])
+                                      (dict(kind="segmental", rise=1.5), "rise"), (dict(dim=4), "dim"),
+                                      (dict(mu=-0.1), "mu"), (dict(density=0), "density"), (dict(n=2.5), "n")])
 def test_arch_parameter_errors(kw, name):
     with pytest.raises(SceneError, match=f"^{name}"):
         G.arch(**kw)

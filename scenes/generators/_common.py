@@ -20,7 +20,7 @@ def positive(name: str, value, *, allow_zero: bool = False) -> float:
     except (TypeError, ValueError):
         raise SceneError(f"{name}: expected a number, got {value!r}") from None
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise SceneError(f"{name}: must be {'>= 0' if allow_zero else '> 0'} (m), got {value!r}")
+        raise SceneError(f"{name}: must be {'>= 0' if allow_zero else '> 0'}, got {value!r}")
     return v
 
 
@@ -88,7 +88,9 @@ def halfspace_vertices(A, b, interior) -> np.ndarray:
 
 
 def finish(scene: dict, title: str, params: dict) -> dict:
-    """Record the generator and its parameters under ``meta``."""
+    """Check the material parameters and record the generator and its parameters under ``meta``."""
+    positive("mu", params.get("mu", 0.0), allow_zero=True)
+    positive("density", params.get("density", 1.0))
     scene.setdefault("meta", {})
     scene["meta"].setdefault("title", title)
     scene["meta"]["generator"] = {k: (list(v) if isinstance(v, tuple) else v) for k, v in params.items()}
