@@ -3,6 +3,9 @@ search (scenes/closed_forms.arch_hinge_alpha, virtual work over all hinge positi
 piers and between abutments, where sliding does not govern at mu = 0.8 (the alphas are far below
 mu) so the associative LP must meet the hinging value; and walls' closed forms by virtual work
 (overturning t / H across a 3D wall, the catalog's 5/14 in a 2D running-bond wall)."""
+
+import math
+
 import pytest
 
 from limit.analysis import analyse
@@ -83,3 +86,17 @@ def test_running_bond_wall_opening_joints_by_virtual_work():
     res = analyse(load_scene(d), method="auto")
     assert res["lp"]["alpha"] == pytest.approx(1.0, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(5 / 14, rel=1e-4)
+
+
+@pytest.mark.parametrize("build, turn_deg", [(lambda: G.cross_vault(n=6, segments=2), 90.0),
+                                             (lambda: G.dome(meridians=8, rings=3), 45.0)],
+                         ids=["cross-vault", "dome"])
+def test_vault_and_dome_rotational_symmetry(build, turn_deg):
+    """The cross vault is its own quarter turn about z, the dome of 8 meridians its own eighth turn:
+    the live load turned by that angle meets the same alpha (a check of the webs' and rings'
+    rotated copies, their joints and friction frames)."""
+    d = build()
+    a0 = _lp(d)
+    t = math.radians(turn_deg)
+    d["loads"]["live"] = [{"type": "body_force", "direction": [math.cos(t), math.sin(t), 0.0]}]
+    assert _lp(d) == pytest.approx(a0, rel=1e-5)
