@@ -2,7 +2,7 @@
 search (scenes/closed_forms.arch_hinge_alpha, virtual work over all hinge positions) for arches on
 piers and between abutments, where sliding does not govern at mu = 0.8 (the alphas are far below
 mu) so the associative LP must meet the hinging value; and walls' closed forms by virtual work
-(overturning t / H across a 3D wall, the catalog's 5/14 in a 2D running-bond wall)."""
+(overturning t / H across a 3D wall, the catalog's 5/14 in a 2D running-bond wall); the vaults' symmetry."""
 
 import math
 
