@@ -211,6 +211,19 @@ def test_corner_counts():
     assert {"branch", "B", "course-1"} <= _tags(d, "B-c1-0")
 
 
+def test_buttress_counts():
+    """A wall 1.2 m long, 2 courses of (0.4, 0.2, 0.2), one buttress 0.4 wide at x = 0.4 standing
+    0.4 out. Course 0: the wall through, [0,.4] [.4,.8] [.8,1.2]; the buttress abuts it, one block
+    y .2-.6. Course 1: the wall stops at the buttress, [0,.2] [.2,.4] and [.8,1] [1,1.2]; the
+    buttress runs through, y [0,.4] [.4,.6]. base: 4; course 0: 2 head joints + the middle block
+    against the buttress = 3; course 1: 2 head joints, the through block against the wall each side
+    and against the buttress's second block = 5; bed: [0,.4] under two, [.4,.8] under the through
+    block, [.8,1.2] under two, the buttress block under both of course 1's = 7."""
+    d = G.buttressed_wall(length=1.2, height=0.4, buttresses=(0.4,), width=0.4, depth=0.4)
+    assert _n_interfaces(d) == 4 + 3 + 5 + 7
+    assert _free_volume(d) == pytest.approx((1.2 * 0.2 + 0.4 * 0.4) * 0.4, rel=1e-12)
+
+
 def test_tee_and_buttress_volumes_and_interlock():
     """T: 2.4 x 0.2 plus the stem 0.2 x 1.6, 1.2 high. Buttressed wall: 3.2 x 0.2 plus two 0.4 x 0.4
     buttresses, 1.6 high. In every odd course the stem's (buttress's) first block runs through the
