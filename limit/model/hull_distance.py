@@ -36,8 +36,3 @@ def hull_to_hull(va, vb) -> float:
 def pieces_distance(pieces_a, pieces_b) -> float:
     """Least distance (m) between two blocks given as lists of convex pieces (geometry.Polytope)."""
     return min(hull_to_hull(pa.vertices, pb.vertices) for pa in pieces_a for pb in pieces_b)
-
-
-def pieces(block) -> tuple:
-    """A block's convex pieces: a compound block's parts, else its one polytope."""
-    return tuple(getattr(block, "parts", ()) or ()) or (block.poly,)

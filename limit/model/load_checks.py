@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from limit.errors import SceneError
-from limit.model.hull_distance import pieces, point_to_hull
+from limit.model.hull_distance import point_to_hull
 
 
 class NoLiveWork(SceneError):
@@ -38,7 +38,7 @@ def inside(point, polys, tol: float) -> bool:
 def check_point(scene, ld: dict, where: str) -> None:
     """SceneError when a point force's point lies outside its block beyond ``scene.tolerance``."""
     block = scene.blocks[ld["_blocks"][0]]
-    polys = pieces(block)
+    polys = block.pieces
     if inside(ld["point"], polys, scene.tolerance):
         return
     dist = min(point_to_hull(ld["point"], poly.vertices) for poly in polys)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from limit.errors import SceneError
-from limit.model.hull_distance import pieces, pieces_distance
+from limit.model.hull_distance import pieces_distance
 
 
 def check_friction_pairs(scene, I) -> None:
@@ -28,7 +28,7 @@ def check_friction_pairs(scene, I) -> None:
         if a.fixed and b.fixed:
             raise SceneError(f"{where} are both fixed: a joint between two supports is not modelled, so the "
                              f"override applies to nothing")
-        gap = pieces_distance(pieces(a), pieces(b))
+        gap = pieces_distance(a.pieces, b.pieces)
         if gap > scene.tolerance:
             raise SceneError(f"{where} do not touch ({gap:.3g} m apart, the geometric tolerance is "
                              f"{scene.tolerance:.3g} m): the override applies to no interface")
@@ -46,7 +46,7 @@ def nearest_gap(scene, i: int) -> tuple[str | None, float]:
     for j in np.argsort(box_gap):
         if box_gap[j] >= best:
             break
-        d = pieces_distance(pieces(scene.blocks[i]), pieces(scene.blocks[j]))
+        d = pieces_distance(scene.blocks[i].pieces, scene.blocks[j].pieces)
         if d < best:
             best, best_id = d, scene.blocks[j].id
     return best_id, best
