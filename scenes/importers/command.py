@@ -37,6 +37,9 @@ def add_arguments(p) -> None:
     p.add_argument("--volume-tol", type=float, default=0.01,
                    help="a block whose convex hull exceeds its volume by at most this fraction is one convex block "
                         "(default 0.01); any other becomes a compound block")
+    p.add_argument("--tolerance", type=float, default=None,
+                   help="the scene's contact tolerance in the files' units (default: 1e-6 of the model's diagonal, "
+                        "or the planes' residual, at most 1e-3 of the median block width)")
     p.add_argument("--name", default=None, help="scene name (default: the output file's stem)")
     p.add_argument("--no-check", action="store_true", help="do not load the written scene to check it and count interfaces")
 
@@ -127,6 +130,8 @@ def run(args) -> int:
     # the loader's default (1e-6 of the diagonal), or the planes' residual where corners met more
     # planes than they could lie on, capped at 1e-3 of the median block width
     tolerance = max(1e-6 * diag, min(4 * built.residual * scale, 1e-3 * width_m))
+    if args.tolerance is not None:
+        tolerance = args.tolerance * scale
     vol = sum(b.volume for b in built.blocks) * scale ** dim * (thickness_m if dim == 2 else 1.0)
     mass = float(args.density * vol)
     out = Path(args.output)

@@ -81,6 +81,25 @@ def snap_to_planes(P: np.ndarray, planes: list, dist: float, angle_deg: float, m
     return P[h.vertices]
 
 
+def width(P: np.ndarray) -> float:
+    """Least extent of the convex hull of ``P`` across one of its face planes."""
+    h = ConvexHull(P)
+    proj = P @ h.equations[:, :-1].T
+    return float((proj.max(axis=0) - proj.min(axis=0)).min())
+
+
+def drop_thin(parts: list, min_width: float) -> tuple[list, list]:
+    """(kept parts, volumes of the dropped ones): parts thinner than ``min_width`` are dropped,
+    unless that would leave none."""
+    keep, dropped = [], []
+    for p in parts:
+        if width(p) < min_width:
+            dropped.append(float(ConvexHull(p).volume))
+        else:
+            keep.append(p)
+    return (keep, dropped) if keep else (parts, [])
+
+
 def _merge_points(P: np.ndarray, tol: float) -> np.ndarray:
     from scipy.cluster.hierarchy import fcluster, linkage
 

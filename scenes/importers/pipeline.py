@@ -13,6 +13,8 @@ The tolerances, all lengths, follow from the blocks unless given (:class:`Option
   ``flat_rel`` (0.01) times the median block width.
 * ``vol_tol``: a block whose convex hull exceeds its mesh volume by at most this fraction
   (default 0.01) is one convex block; any other block is a compound block of convex parts.
+* ``thin_rel``: a compound block's piece thinner than this fraction (0.02) of the median block
+  width (a sliver left by a cut) is dropped, and the block's notes say how much volume went.
 """
 from __future__ import annotations
 
@@ -33,6 +35,7 @@ class Options:
     flat: float | None = None
     flat_rel: float = 0.01
     vol_tol: float = 0.01
+    thin_rel: float = 0.02
 
 
 @dataclass
@@ -144,6 +147,10 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
                 parts = decompose.convex_pieces_3d(V2, F.tris, 1e-4 * width)
                 parts = [decompose.snap_to_planes(p, list(fixed_planes.values()), flat, opts.angle_deg, merge)
                          for p in parts]
+                parts, dropped = decompose.drop_thin(parts, opts.thin_rel * width)
+                if dropped:
+                    notes.append(f"dropped {len(dropped)} piece(s) thinner than {opts.thin_rel * width:.3g} "
+                                 f"({100 * sum(dropped) / s.volume:.2g} % of its volume)")
                 from scipy.spatial import ConvexHull
 
                 vol = float(sum(ConvexHull(p).volume for p in parts))
