@@ -224,6 +224,19 @@ def test_buttress_counts():
     assert _free_volume(d) == pytest.approx((1.2 * 0.2 + 0.4 * 0.4) * 0.4, rel=1e-12)
 
 
+def test_corner_compound_quoins():
+    """The corner of test_corner_counts with compound quoins: course 0's A [0,.4] and B y [.2,.6]
+    become quoin-c0, course 1's B y [0,.4] and A [.2,.6] quoin-c1. Touching pairs: base with
+    quoin-c0 and with A [.4,.6]; quoin-c0 with A [.4,.6] (head joint); quoin-c1 with B [.4,.6];
+    bed: quoin-c0 with quoin-c1 and with B [.4,.6], A [.4,.6] with quoin-c1: 7."""
+    d = G.wall_corner(length=0.6, length_b=0.4, height=0.4, compound_quoins=True)
+    assert _touching_pairs(d) == {("base", "quoin-c0"), ("base", "c0-1"), ("c0-1", "quoin-c0"),
+                                  ("B-c1-1", "quoin-c1"), ("quoin-c0", "quoin-c1"), ("B-c1-1", "quoin-c0"),
+                                  ("c0-1", "quoin-c1")}
+    assert _free_volume(d) == pytest.approx((0.6 * 0.2 + 0.2 * 0.4) * 0.4, rel=1e-12)
+    assert "quoin" in _tags(d, "quoin-c1")
+
+
 def test_tee_and_buttress_volumes_and_interlock():
     """T: 2.4 x 0.2 plus the stem 0.2 x 1.6, 1.2 high. Buttressed wall: 3.2 x 0.2 plus two 0.4 x 0.4
     buttresses, 1.6 high. In every odd course the stem's (buttress's) first block runs through the
@@ -299,15 +312,24 @@ def test_cross_vault_volume_and_count(segments, stagger):
     assert touching == {b.id for b in sc.blocks}  # every block, the piers included, has a joint
 
 
+def _touching_pairs(d):
+    """The distinct pairs of touching blocks: independent of how a compound block's contacts with
+    one neighbour are grouped into interfaces (per piece pair, or per plane)."""
+    sc = load_scene(d)
+    return {tuple(sorted(p)) for p in find_interfaces(sc).pairs(sc)}
+
+
 def test_cross_vault_compound_groins():
-    """compound_groins, n = 8, one segment: each of the 4 groins joins n/2 pairs, so 4 x 8 blocks become 16 compound blocks of 2 parts; the 16 groin faces are
-    inside blocks now, the 4 x 7 course joints and 8 pier contacts remain (one interface per pair
-    of touching pieces), and the volume is unchanged."""
+    """compound_groins, n = 8, one segment: each of the 4 groins joins n/2 pairs (course k of one
+    web, course 7 - k of the next), so 4 x 8 blocks become 16 compound blocks of 2 parts.
+    Touching pairs: along a groin, compounds k and k + 1 touch twice (a course joint in each web),
+    3 pairs per groin = 12; each web's crown joint (y = 0 in its frame) joins two groins' crown
+    compounds, 4 more; each pier carries one compound, 4: 20 pairs. The volume is unchanged."""
     d = G.cross_vault(span=2.0, thickness=0.2, n=8, segments=1, compound_groins=True)
     sc = load_scene(d)
     free = [b for b in sc.blocks if not b.fixed]
     assert len(free) == 16 and all(len(b.parts) == 2 for b in free)
-    assert _n_interfaces(d) == 4 * 7 + 8
+    assert len(_touching_pairs(d)) == 12 + 4 + 4
     assert _free_volume(d) == pytest.approx(4 * _web_volume(1.0, 1.2, 8, 1.2), rel=1e-9)
     assert {"groin", "web-east", "web-north", "course-0", "course-7"} <= _tags(d, "groin-east-0")
 

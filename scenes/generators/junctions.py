@@ -8,6 +8,8 @@ thickness (from y = 0) and the main wall stops against it. z up; lengths in metr
 """
 from __future__ import annotations
 
+import numpy as np
+
 from limit.errors import SceneError
 
 from .. import builders as B
@@ -39,8 +41,29 @@ def _assemble(name, title, params, length, branches, courses, L, T, H, mu, densi
             for m, (y_a, y_b, _) in enumerate(bonds.cut("running", c + 1, y0, T + bd, L, T)):
                 blocks.append(box3(f"{label}-c{c}-{m}", [bx, y_a, z0], [bx + bw, y_b, z1],
                                    tags=list(tags) + [label, f"course-{c}"]))
+    if params.get("compound_quoins"):
+        blocks = _quoins(blocks, courses)
     sc = B.scene(name, 3, blocks, friction=float(mu), density=float(density), sliding_faces=None)
     return finish(sc, title, params)
+
+
+def _box_vertices(blk):
+    c, h = np.asarray(blk["box"]["center"]), np.asarray(blk["box"]["size"]) / 2
+    return [[float(c[0] + sx * h[0]), float(c[1] + sy * h[1]), float(c[2] + sz * h[2])]
+            for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
+
+
+def _quoins(blocks, courses):
+    """Per course, the corner's two first blocks (wall A's 'c{c}-0' and wall B's 'B-c{c}-0', one of
+    them over the corner square) as one compound L-shaped block 'quoin-c{c}'."""
+    by_id = {b["id"]: b for b in blocks}
+    out, merged = [], set()
+    for c in range(courses):
+        a, b = by_id[f"c{c}-0"], by_id[f"B-c{c}-0"]
+        merged |= {a["id"], b["id"]}
+        out.append({"id": f"quoin-c{c}", "parts": [{"vertices": _box_vertices(a)}, {"vertices": _box_vertices(b)}],
+                    "tags": ["quoin", "main", "branch", "B", f"course-{c}"]})
+    return [b for b in blocks if b["id"] not in merged] + out
 
 
 def _common(length, height, unit):
@@ -54,14 +77,16 @@ def _common(length, height, unit):
     return L, W, H, Lw, nc
 
 
-def wall_corner(length=2.0, length_b=1.6, height=1.2, unit=(0.4, 0.2, 0.2), mu=0.6, density=2000.0,
-                name=None) -> dict:
+def wall_corner(length=2.0, length_b=1.6, height=1.2, unit=(0.4, 0.2, 0.2), compound_quoins=False, mu=0.6,
+                density=2000.0, name=None) -> dict:
     """Two walls at a right-angle corner, alternate courses interlocking (3D, running bond).
 
     length: wall A along x, from the outer corner (m).
     length_b: wall B along +y, from A's back face (m).
     height: a whole number of courses (m).
     unit: (L, W, H): block length, wall thickness and course height (m).
+    compound_quoins: in each course the two blocks that meet at the corner become one L-shaped
+        compound block 'quoin-c{course}' (two convex parts moving together), tagged 'quoin'.
     mu: friction coefficient.
     density: kg/m^3.
     name: the scene's name.
@@ -69,7 +94,8 @@ def wall_corner(length=2.0, length_b=1.6, height=1.2, unit=(0.4, 0.2, 0.2), mu=0
     Blocks: wall A 'c{course}-{k}' tagged 'main'; wall B 'B-c{course}-{k}' tagged 'branch' and 'B';
     all 'course-{course}'. Fixed base 'base'. Loads: self weight, 1 g along +x (live).
     """
-    params = dict(length=length, length_b=length_b, height=height, unit=tuple(unit), mu=mu, density=density)
+    params = dict(length=length, length_b=length_b, height=height, unit=tuple(unit),
+                  compound_quoins=bool(compound_quoins), mu=mu, density=density)
     L, W, H, Lw, nc = _common(length, height, unit)
     lb = positive("length_b", length_b)
     return _assemble(name or "wall-corner-3d", "Corner of two walls, interlocking courses", params, Lw,
