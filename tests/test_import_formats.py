@@ -160,3 +160,21 @@ def test_dxf_2d_concave_outline_is_compound_and_open_polyline_closed(tmp_path):
     assert any("closed from their last point" in w for w in scene["meta"]["import"]["warnings"])
     sc = load_scene(scene)
     assert len(find_interfaces(sc)) >= 1
+
+
+def test_one_stl_of_stacked_cubes_sharing_corners(tmp_path):
+    """Three unit cubes stacked in one STL, sharing their joint corners and edges: three blocks of
+    1 m^3 (the joints' coincident faces close the blocks on either side), two interfaces of 1 m^2."""
+    cubes = []
+    for z in (0.5, 1.5, 2.5):
+        m = trimesh.creation.box(extents=[1, 1, 1])
+        m.apply_translation([0, 0, z])
+        cubes.append(m)
+    f = tmp_path / "stack.stl"
+    trimesh.util.concatenate(cubes).export(f)
+    rc, scene = _import(tmp_path, f)
+    assert rc == 0
+    sc = load_scene(scene)
+    assert sorted(b.volume for b in sc.blocks) == pytest.approx([1.0, 1.0, 1.0], rel=1e-9)
+    inter = find_interfaces(sc)
+    assert len(inter) == 2 and inter.area == pytest.approx([1.0, 1.0], rel=1e-9)

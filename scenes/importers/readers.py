@@ -163,17 +163,14 @@ def read_mesh(path: Path, split: bool) -> list[RawBlock]:
         raise SceneError(f"{path}: cannot read it as a mesh ({type(exc).__name__}: {exc})") from None
     if not len(loaded.faces):
         raise SceneError(f"{path}: has no faces")
-    mesh = trimesh.Trimesh(loaded.vertices, loaded.faces, process=False)
-    mesh.merge_vertices(digits_vertex=None)
-    pieces = [mesh]
-    if split:
-        labels = trimesh.graph.connected_component_labels(mesh.face_adjacency, node_count=len(mesh.faces))
-        pieces = [mesh.submesh([np.flatnonzero(labels == k)], append=True) for k in np.unique(labels)]
-    out = []
-    for k, m in enumerate(pieces):
-        name = path.stem if len(pieces) == 1 else f"{path.stem}_{k}"
-        out.append(RawBlock(_clean(name), np.asarray(m.vertices, dtype=float), [list(map(int, f)) for f in m.faces],
-                            f"{path.name}" + ("" if len(pieces) == 1 else f" part {k}")))
+    V = np.asarray(loaded.vertices, dtype=float)
+    F = np.asarray(loaded.faces)
+    if not split:
+        return [RawBlock(_clean(path.stem), V, [list(map(int, f)) for f in F], path.name)]
+    # the closed parts, as for DXF faces: blocks that touch share corners and joint edges
+    out = _group_faces(path, [(V[f], "0", str(k)) for k, f in enumerate(F)], prefix=_clean(path.stem) + "_")
+    if len(out) == 1:
+        out[0].name, out[0].source = _clean(path.stem), path.name
     return out
 
 
@@ -240,7 +237,7 @@ def read_dxf(path: Path) -> tuple[int, list[RawBlock]]:
     raise SceneError(f"{path}: no closed polyline, polyface mesh or 3DFACE in its model space")
 
 
-def _group_faces(path: Path, faces3d: list) -> list[RawBlock]:
+def _group_faces(path: Path, faces3d: list, prefix: str = "block") -> list[RawBlock]:
     """3D faces grouped into blocks. Corners closer than 1e-9 of the drawing's size are merged;
     the faces of one POLYFACE entity are one block; loose 3DFACEs are joined across edges that
     bound exactly two faces (an edge on a joint between two blocks bounds four), and a group left
@@ -308,7 +305,7 @@ def _group_faces(path: Path, faces3d: list) -> list[RawBlock]:
         remap = {int(u): j for j, u in enumerate(used)}
         V = pts[first[used]]
         layers = sorted({faces3d[i][1] for i in idx} - {"0", ""})
-        out.append(RawBlock(f"{_clean(layers[0])}_{c}" if layers else f"block{c}", V,
+        out.append(RawBlock(f"{_clean(layers[0])}_{c}" if layers else f"{prefix}{c}", V,
                             [[remap[v] for v in faces[i]] for i in idx],
                             f"{path.name}:{faces3d[idx[0]][2]}", layers))
     return out
