@@ -102,3 +102,26 @@ def test_a_block_with_a_blocked_dof_keeps_its_own_unknowns():
         if vh is not None:
             res, fl = _flow_residual(P, N, flows, vh, lam)
             assert res < 1e-7 and fl == pytest.approx(1.0, abs=1e-7)
+
+
+def test_two_blocks_sharing_two_interfaces_are_one_cluster():
+    """A compound L block and a block C laid in its corner share two interfaces (C on the foot and
+    against the leg, tests/test_compound.py). With only the base joint's faces flowing, L and C
+    are one cluster (3 unknowns) whose motion satisfies the flow rule on every interface, the two
+    tied ones included (residual as in the tests above); with none flowing nothing moves."""
+    from tests.test_compound import l_block_2d
+
+    d = l_block_2d()
+    d["blocks"].append({"id": "C", "box": {"center": [0.6, 0.4], "size": [0.8, 0.4]}})
+    P = assemble(load_scene(d))
+    N = build(P)
+    iface = np.asarray(P.model.iface)
+    base_joint = [k for k, (a, b) in enumerate(zip(P.I.a, P.I.b)) if a == 0]
+    flows = np.isin(iface, base_joint)
+    T, _ = rigid_clusters.clusters(P, flows)
+    assert T.shape[1] == 3
+    vh, lam, _, _ = rigid_clusters.kinematics(P, N.Gh, flows)
+    assert vh is not None
+    res, fl = _flow_residual(P, N, flows, vh, lam)
+    assert res < 1e-7 and fl == pytest.approx(1.0, abs=1e-7)
+    assert rigid_clusters.clusters(P, np.zeros(P.model.n_faces, bool))[0].shape[1] == 0

@@ -100,6 +100,11 @@ def find_interfaces(scene) -> Interfaces:
     sel = order[first]
     sel = sel[np.lexsort((qb[sel], qa[sel]))]
     a, b = owner[qa], owner[qb]  # pieces are in block order, so a < b
+    if len(polys) > len(blocks):  # compound blocks: one interface per plane of a block pair
+        a, b, fields, sel = _merge_coplanar(a[sel], b[sel], {k: _take(v, sel) for k, v in fields.items()},
+                                            d, tol, scene.thickness)
+        a, b = a[sel], b[sel]
+        sel = np.arange(len(sel))
     mu = np.full(len(sel), scene.friction)
     if scene.friction_pairs:
         for k, (i, j) in enumerate(zip(a[sel], b[sel])):
@@ -115,6 +120,70 @@ def find_interfaces(scene) -> Interfaces:
         polygons=[fields["polygons"][k] for k in sel], local=[fields["local"][k] for k in sel],
         mu=mu,
     )
+
+
+def _take(v, idx):
+    return [v[k] for k in idx] if isinstance(v, list) else v[idx]
+
+
+def _merge_coplanar(a, b, fields, d, tol, thickness):
+    """Merge the interfaces of one block pair that lie in one plane (a compound block's parts
+    meeting one face, or one part meeting a neighbour's parts) into one whose contact polygon is
+    the convex hull of theirs (2D: the segment that spans them). For no-tension joints this is
+    exact: a resultant within the hull of the union is a sum of resultants within the pieces, and
+    the Coulomb cones of coplanar pieces sum to the cone of the whole. Returns (a, b, fields,
+    order) with ``order`` sorting the result by (a, b)."""
+    from scipy.spatial import ConvexHull
+
+    m = len(a)
+    pair_order = np.lexsort((b, a))
+    groups, k = [], 0
+    while k < m:
+        j = k
+        while j < m and a[pair_order[j]] == a[pair_order[k]] and b[pair_order[j]] == b[pair_order[k]]:
+            j += 1
+        rows = list(pair_order[k:j])
+        while rows:  # one plane at a time
+            r0 = rows[0]
+            n0, c0 = fields["normal"][r0], fields["centroid"][r0]
+            same = [r for r in rows if fields["normal"][r] @ n0 > 1.0 - ANGLE_TOL
+                    and abs(n0 @ (fields["centroid"][r] - c0)) <= tol]
+            groups.append(same)
+            rows = [r for r in rows if r not in same]
+        k = j
+    if all(len(g) == 1 for g in groups):
+        return a, b, fields, np.lexsort((b, a))
+    out = {key: [] for key in fields}
+    na, nb = [], []
+    for g in groups:
+        r0 = g[0]
+        na.append(a[r0])
+        nb.append(b[r0])
+        if len(g) == 1:
+            for key in fields:
+                out[key].append(fields[key][r0])
+            continue
+        n, o = fields["normal"][r0], fields["centroid"][r0]
+        pts = np.vstack([fields["polygons"][r] for r in g]) - o
+        if d == 2:
+            t = fields["t1"][r0]
+            s = pts @ t
+            lo, hi = float(s.min()), float(s.max())
+            half = 0.5 * (hi - lo)
+            cen = o + t * 0.5 * (lo + hi)
+            new = dict(normal=n, t1=t, centroid=cen, area=2 * half * thickness, l1=half, l2=0.5 * thickness,
+                       is_rect=True, polygons=np.array([cen - t * half, cen + t * half]), local=np.array([[-half], [half]]))
+        else:
+            e1, e2 = plane_basis(n)
+            uv = np.column_stack([pts @ e1, pts @ e2])
+            hull = uv[ConvexHull(uv).vertices]  # counter-clockwise about n
+            one = _frame_fields(n[None], e1[None], e2[None], o[None], [hull], tol)
+            new = {key: v[0] for key, v in one.items()}
+        for key in fields:
+            out[key].append(new[key])
+    merged = {key: (v if isinstance(fields[key], list) else np.array(v)) for key, v in out.items()}
+    na, nb = np.array(na), np.array(nb)
+    return na, nb, merged, np.lexsort((nb, na))
 
 
 def _facing_faces(ft, pa, pb, tol):
@@ -190,13 +259,19 @@ def _contacts_3d(ft, fa, fb, tol):
     # Positive area and a width (area / diameter) above the tolerance.
     ok = (nv >= 3) & (area / diam > tol)
     idx = np.flatnonzero(ok)
-    counts = nv[idx]
-    starts = np.cumsum(counts) - counts
-    coords = np.vstack([polys[r] for r in idx]) if len(idx) else np.empty((0, 2))
-    n, e1, e2, o = n[idx], e1[idx], e2[idx], o[idx]
+    ok_full = np.zeros(m, bool)
+    ok_full[idx] = True
+    return ok_full, _frame_fields(n[idx], e1[idx], e2[idx], o[idx], [polys[r] for r in idx], tol)
 
+
+def _frame_fields(n, e1, e2, o, polys, tol) -> dict:
+    """The interface fields (module docstring) of 3D contact polygons: ``polys[r]`` (k, 2) in the
+    in-plane basis (e1[r], e2[r]) about the point o[r] of the plane with normal n[r] (e1 x e2 = n)."""
+    counts = np.array([len(p) for p in polys], dtype=int)
+    starts = np.cumsum(counts) - counts
+    coords = np.vstack(polys) if len(polys) else np.empty((0, 2))
     nk = counts
-    mm = len(idx)
+    mm = len(polys)
     A = np.empty(mm)
     C = np.empty((mm, 2))
     t1 = np.empty((mm, 3))
@@ -233,11 +308,8 @@ def _contacts_3d(ft, fa, fb, tol):
             world[r] = o[r] + plane[:, :1] * e1[r] + plane[:, 1:] * e2[r]
     cen3 = o + e1 * C[:, :1] + e2 * C[:, 1:]
     t2 = np.cross(n, t1)
-    ok_full = np.zeros(m, bool)
-    ok_full[idx] = True
-    fields = dict(normal=n, t1=t1, t2=t2, centroid=cen3, area=A, l1=l1, l2=l2,
-                  is_rect=is_rect, polygons=world, local=local)
-    return ok_full, fields
+    return dict(normal=n, t1=t1, t2=t2, centroid=cen3, area=A, l1=l1, l2=l2,
+                is_rect=is_rect, polygons=world, local=local)
 
 
 def _second_moments(P, a, cen):

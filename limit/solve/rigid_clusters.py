@@ -114,6 +114,10 @@ def clusters(P, flows: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
     # the map of every directed edge, looked up by (from, to) along the spanning tree
     src, dst = np.concatenate([a, b]), np.concatenate([b, a])
     maps = np.concatenate([ab, ba])
+    # one edge per (from, to): two blocks may share several interfaces (compound blocks), and a
+    # sparse matrix would sum their edge numbers; any one of them ties the pair
+    _, one = np.unique(src.astype(np.int64) * (n_free + 1) + dst, return_index=True)
+    src, dst, maps = src[one], dst[one], maps[one]
     # one breadth-first tree over every cluster, from a virtual node S linked to each cluster's root
     n_comp, comp = connected_components(sp.csr_matrix((np.ones(src.size), (src, dst)), shape=(n_free, n_free)),
                                         directed=False)
