@@ -386,7 +386,7 @@ def test_vault_and_dome_errors():
 def test_default_scene_is_sound(kind):
     """Each generator's default scene loads in strict mode (no key the schema does not know), every
     block has a joint, the default loads are self weight and 1 g along +x, and the associative LP
-    finds a mechanism with 0 < alpha < 1."""
+    finds a mechanism with 0 < alpha < 1; the parameters recorded in meta.generator rebuild it."""
     import warnings
 
     from limit.analysis import analyse
@@ -401,6 +401,7 @@ def test_default_scene_is_sound(kind):
     assert touching == {b.id for b in sc.blocks}
     res = analyse(sc, method="lp")
     assert res["lp"]["status"] == "optimal" and 0 < res["lp"]["alpha"] < 1
+    assert G.GENERATORS[kind](**d["meta"]["generator"]) == d  # meta.generator rebuilds the scene
 
 
 # ----------------------------------------------------------------------------
