@@ -56,9 +56,9 @@ def polytope_vertices(N: np.ndarray, d: np.ndarray, origin: np.ndarray, merge_to
 
 
 def snap_to_planes(P: np.ndarray, planes: list, dist: float, angle_deg: float, merge_tol: float) -> np.ndarray:
-    """Corners of the convex piece with corners ``P`` (k, 3) rebuilt from planes: each face of
-    its hull that lies within ``dist`` and ``angle_deg`` of one of the block's ``planes`` (list of
-    (n, d): its joints and flat faces) takes that plane exactly, the others keep their own. So a
+    """Corners of the convex piece with corners ``P`` (k, 3) rebuilt from planes: each triangle of
+    its hull whose corners lie within ``dist`` of one of the block's ``planes`` (list of (n, d):
+    its joints and flat faces), its normal within ``angle_deg``, takes that plane exactly, the others keep their own. So a
     piece's face on a joint is exactly in the joint's plane even where a corner of the mesh met
     more planes than it could lie on. The piece is kept as it was when the rebuilt one's volume
     differs by more than 1 %."""
@@ -68,7 +68,9 @@ def snap_to_planes(P: np.ndarray, planes: list, dist: float, angle_deg: float, m
     if planes:
         N0 = np.array([n for n, _ in planes])
         D0 = np.array([d for _, d in planes])
-        score = np.where(N @ N0.T > np.cos(np.deg2rad(angle_deg)), np.abs(D[:, None] - D0[None, :]), np.inf)
+        # each hull triangle's farthest corner from each plane
+        far = np.abs(np.einsum("tkd,pd->tpk", P[h.simplices], N0) - D0[None, :, None]).max(axis=2)
+        score = np.where(N @ N0.T > np.cos(np.deg2rad(angle_deg)), far, np.inf)
         j = score.argmin(axis=1)
         ok = score[np.arange(len(N)), j] <= dist
         N[ok], D[ok] = N0[j[ok]], D0[j[ok]]

@@ -145,8 +145,8 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
                 out.append(OutBlock(s.name, s.source, s.tags, verts, None, s.volume, vol, s.hull_ratio, notes))
             else:
                 parts = decompose.convex_pieces_3d(V2, F.tris, 1e-4 * width)
-                parts = [decompose.snap_to_planes(p, list(fixed_planes.values()), flat, opts.angle_deg, merge)
-                         for p in parts]
+                parts = [decompose.snap_to_planes(p, list(fixed_planes.values()), flat,
+                                                  opts.angle_deg, merge) for p in parts]
                 parts, dropped = decompose.drop_thin(parts, opts.thin_rel * width)
                 if dropped:
                     notes.append(f"dropped {len(dropped)} piece(s) thinner than {opts.thin_rel * width:.3g} "
