@@ -193,7 +193,9 @@ def test_figures_and_vtk_draw_each_part_moving_with_the_block(tmp_path):
 def test_coplanar_contacts_of_one_block_pair_merge_into_one_interface(dim):
     """An L lying on its side, parts [0, 0.4] x [0, 1] and [0.4, 1] x [0, 0.2], both on the base:
     one joint along y = 0 from x = 0 to 1 (2D: length 1 m x thickness 1 m; 3D: 1 m x 0.5 m, a
-    rectangle), centred at x = 0.5, rather than one interface per part."""
+    rectangle), centred at x = 0.5, rather than one interface per part. Then the low part is
+    shortened to [0.4, 0.8] and moved to [0.5, 0.9]: the joint's polygon spans the hull [0, 0.9],
+    its area is the 0.8 m in touch (x thickness or depth)."""
     tall = [[0.0, 0.0], [0.4, 0.0], [0.4, 1.0], [0.0, 1.0]]
     low = [[0.4, 0.0], [1.0, 0.0], [1.0, 0.2], [0.4, 0.2]]
     d = l_block_2d() if dim == 2 else l_block_3d()
@@ -203,3 +205,9 @@ def test_coplanar_contacts_of_one_block_pair_merge_into_one_interface(dim):
     assert I.area[0] == pytest.approx(1.0 if dim == 2 else 0.5)
     assert I.centroid[0][0] == pytest.approx(0.5)
     assert bool(I.is_rect[0])
+    low = [[0.5, 0.0], [0.9, 0.0], [0.9, 0.2], [0.5, 0.2]]
+    d["blocks"][1]["parts"][1] = {"vertices": low if dim == 2 else extrude(low)}
+    I = find_interfaces(load_scene(d))
+    assert len(I) == 1
+    assert I.area[0] == pytest.approx(0.8 if dim == 2 else 0.4)
+    assert np.ptp(np.asarray(I.polygons[0])[:, 0]) == pytest.approx(0.9)

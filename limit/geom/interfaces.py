@@ -129,9 +129,10 @@ def _take(v, idx):
 def _merge_coplanar(a, b, fields, d, tol, thickness):
     """Merge the interfaces of one block pair that lie in one plane (a compound block's parts
     meeting one face, or one part meeting a neighbour's parts) into one whose contact polygon is
-    the convex hull of theirs (2D: the segment that spans them). For no-tension joints this is
-    exact: a resultant within the hull of the union is a sum of resultants within the pieces, and
-    the Coulomb cones of coplanar pieces sum to the cone of the whole. Returns (a, b, fields,
+    the convex hull of theirs (2D: the segment that spans them) and whose ``area`` is the sum of
+    theirs (the area in touch). For no-tension joints this is exact: a resultant within the hull
+    of the union is a sum of resultants within the pieces, and the Coulomb cones of coplanar
+    pieces sum to the cone of the whole. Returns (a, b, fields,
     order) with ``order`` sorting the result by (a, b)."""
     from scipy.spatial import ConvexHull
 
@@ -179,6 +180,7 @@ def _merge_coplanar(a, b, fields, d, tol, thickness):
             hull = uv[ConvexHull(uv).vertices]  # counter-clockwise about n
             one = _frame_fields(n[None], e1[None], e2[None], o[None], [hull], tol)
             new = {key: v[0] for key, v in one.items()}
+        new["area"] = float(sum(fields["area"][r] for r in g))
         for key in fields:
             out[key].append(new[key])
     merged = {key: (v if isinstance(fields[key], list) else np.array(v)) for key, v in out.items()}

@@ -63,7 +63,7 @@ def arch_joints(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, 
                       [c[0] + re * math.cos(p), c[1] + re * math.sin(p)]] for p in phis])
 
 
-def arch(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, radius=None, pier_height=1.5,
+def arch(kind="semicircular", span=2.0, thickness=0.25, n=None, rise=None, radius=None, pier_height=1.5,
          pier_width=0.5, pier_courses=3, fixed_piers=False, dim=2, depth=None, mu=0.8, density=2000.0,
          name=None) -> dict:
     """A voussoir arch on two piers with skewbacks; returns a ``blockscene/1`` dict.
@@ -71,7 +71,7 @@ def arch(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, radius=
     kind: 'semicircular', 'pointed' or 'segmental'.
     span: clear span between the piers' inner faces (m).
     thickness: ring thickness, measured along the joints (m).
-    n: voussoirs (even for a pointed arch).
+    n: voussoirs (even for a pointed arch; default 11, and 12 for a pointed arch).
     rise: segmental arch only, the intrados rise above the springing (m; default span/4).
     radius: pointed arch only, the intrados radius of each half (m; default span, equilateral).
     pier_height: height of the intrados springing above the base (m).
@@ -96,7 +96,7 @@ def arch(kind="semicircular", span=2.0, thickness=0.25, n=11, rise=None, radius=
     choice("kind", kind, KINDS)
     dim = dimension(dim)
     s, t = positive("span", span), positive("thickness", thickness)
-    n = count("n", n, 3 if kind != "pointed" else 2)
+    n = count("n", (12 if kind == "pointed" else 11) if n is None else n, 3 if kind != "pointed" else 2)
     hp = positive("pier_height", pier_height)
     w = positive("pier_width", pier_width)
     nc = count("pier_courses", pier_courses)

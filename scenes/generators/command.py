@@ -16,7 +16,7 @@ import re
 from limit.errors import SceneError
 
 #: parameters whose default is None, and the type their value takes
-_NONE_TYPES = {"buttress_courses": int}
+_NONE_TYPES = {"buttress_courses": int, "n": int}
 #: parameters given as several numbers
 _LISTS = {"unit": 3, "buttresses": "+"}
 
