@@ -69,13 +69,41 @@ def inset_directions(vertices, up, r_fit: float) -> np.ndarray:
         on = np.abs(N @ x - off) <= tol
         if on.sum() < 3:
             raise ValueError(f"vertex {j} lies on {int(on.sum())} face planes (a convex vertex needs 3)")
-        d, *_ = np.linalg.lstsq(N[on], -w[on], rcond=None)
-        s = float(np.min(-(N[on] @ d) / w[on]))  # the nearest face plane, in units of its w
-        if not s > 0:
-            raise ValueError(f"vertex {j}: no inward direction for its sphere")
-        d /= min(s, 1.0)
-        out[j] = d
+        out[j] = _inset(N[on], w[on], x, P.centroid, j)
+    depth = off[None, :] - (v + r_fit * out) @ N.T
+    for j in np.flatnonzero(~np.all(depth >= r_fit * (1 - 1e-9), axis=1)):
+        # a face plane that passes near the vertex but not through it (a short edge, as an
+        # imported block's planes leave): the sphere is placed against every plane at once
+        out[j] = _inset_all_planes(N, off, w, v[j], r_fit, j)
     depth = off[None, :] - (v + r_fit * out) @ N.T
     if not np.all(depth >= r_fit * (1 - 1e-9)):
         raise ValueError(f"a vertex sphere of radius {r_fit:.3g} m does not fit inside the block")
     return out
+
+
+def _inset_all_planes(N, off, w, x, r, j) -> np.ndarray:
+    """The inset vector d at vertex x (3,) that keeps a sphere of radius r at x + r d at least
+    r w_k inside every face plane k (normals N (F, 3), offsets off (F,), weights w (F,)): the LP
+    max t subject to N d + t w <= (off - N x) / r, t <= 1, |d_i| <= 100; ValueError when t < 1."""
+    from scipy.optimize import linprog
+
+    g = (off - N @ x) / r
+    res = linprog(np.r_[0.0, 0.0, 0.0, -1.0], A_ub=np.hstack([N, w[:, None]]), b_ub=g,
+                  bounds=[(-100.0, 100.0)] * 3 + [(None, 1.0)], method="highs")
+    if res.status != 0 or res.x[3] < 1.0 - 1e-9:
+        raise ValueError(f"vertex {j}: no room for its sphere of radius {r:.3g} m")
+    return res.x[:3]
+
+
+def _inset(N, w, x, centroid, j) -> np.ndarray:
+    """The inset vector d at vertex x (3,) of the face planes with outward normals N (k, 3) and
+    weights w (k,): n_k . d = -w_k in the least-squares sense, else towards the block's centroid
+    (many faces, some nearly coplanar, at the vertex), scaled so that n_k . d <= -w_k."""
+    d, *_ = np.linalg.lstsq(N, -w, rcond=None)
+    s = float(np.min(-(N @ d) / w))  # the nearest face plane, in units of its w
+    if not s > 0:
+        d = centroid - x
+        s = float(np.min(-(N @ d) / w))
+    if not s > 0:
+        raise ValueError(f"vertex {j}: no inward direction for its sphere")
+    return d / min(s, 1.0)
