@@ -84,7 +84,8 @@ def run(args) -> int:
         files = readers.expand_paths(args.files)
         units, notes = _units(args, files)
         dim, raw = readers.read_files(files)
-        opts = pipeline.Options(gap=args.gap, flat=args.flat, angle_deg=args.angle, vol_tol=args.volume_tol)
+        opts = pipeline.Options(gap=args.gap, flat=args.flat, angle_deg=args.angle, vol_tol=args.volume_tol,
+                                min_width=1.5 * args.tolerance if args.tolerance else 0.0)
         built = pipeline.build(dim, raw, opts)
     msgs += [str(w.message) for w in caught if issubclass(w.category, UserWarning) and "ezdxf" not in str(w.filename)]
     msgs += built.warnings

@@ -14,7 +14,9 @@ The tolerances, all lengths, follow from the blocks unless given (:class:`Option
 * ``vol_tol``: a block whose convex hull exceeds its mesh volume by at most this fraction
   (default 0.01) is one convex block; any other block is a compound block of convex parts.
 * ``thin_rel``: a compound block's piece thinner than this fraction (0.02) of the median block
-  width (a sliver left by a cut) is dropped, and the block's notes say how much volume went.
+  width (a sliver left by a cut), or than ``min_width`` (the command passes 1.5 times a given
+  scene tolerance, which the loader requires a piece to exceed), is dropped, and the block's
+  notes say how much volume went.
 """
 from __future__ import annotations
 
@@ -36,6 +38,7 @@ class Options:
     flat_rel: float = 0.01
     vol_tol: float = 0.01
     thin_rel: float = 0.02
+    min_width: float = 0.0
 
 
 @dataclass
@@ -145,11 +148,12 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
                 out.append(OutBlock(s.name, s.source, s.tags, verts, None, s.volume, vol, s.hull_ratio, notes))
             else:
                 parts = decompose.convex_pieces_3d(V2, F.tris, 1e-4 * width)
-                parts = [decompose.snap_to_planes(p, list(fixed_planes.values()), flat,
+                parts = [decompose.snap_to_planes(p, list(fixed_planes.values()), max(flat, 0.5 * gap),
                                                   opts.angle_deg, merge) for p in parts]
-                parts, dropped = decompose.drop_thin(parts, opts.thin_rel * width)
+                thin = max(opts.thin_rel * width, opts.min_width)
+                parts, dropped = decompose.drop_thin(parts, thin)
                 if dropped:
-                    notes.append(f"dropped {len(dropped)} piece(s) thinner than {opts.thin_rel * width:.3g} "
+                    notes.append(f"dropped {len(dropped)} piece(s) thinner than {thin:.3g} "
                                  f"({100 * sum(dropped) / s.volume:.2g} % of its volume)")
                 from scipy.spatial import ConvexHull
 
