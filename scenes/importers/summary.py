@@ -53,8 +53,9 @@ def text(rec: dict, out_path: str) -> str:
     vr = np.array([b["volume_ratio"] for b in rec["per_block"]])
     lines = [
         f"read {', '.join(rec['files'])} (units {rec['units']}, {rec['dim']}D)",
-        f"blocks: {rec['blocks']} ({rec['hulls']} convex, {rec['compound_blocks']} compound of "
-        f"{rec['parts'] - rec['hulls']} convex parts); fixed: {len(rec['fixed'])}",
+        f"blocks: {rec['blocks']} ({rec['hulls']} convex hulls, {rec['compound_blocks']} compound"
+        + (f" of {rec['parts'] - rec['hulls']} convex parts" if rec['compound_blocks'] else "")
+        + f"); fixed: {len(rec['fixed'])}",
         f"hull/mesh volume ratio per block: min {ratios.min():.4f}, max {ratios.max():.4f} "
         f"(convex up to {1 + rec['tolerance']['volume']:.4g}); output/mesh volume: {vr.min():.4f} to {vr.max():.4f}",
         f"joints snapped to their mid-plane: {rec['joints_snapped']}; largest gap closed "
