@@ -51,7 +51,6 @@ def _units(args, files) -> tuple[str, list]:
     found = set()
     for f in files:
         if f.suffix.lower() == ".dxf":
-            import ezdxf
             from ezdxf import recover
 
             try:
@@ -151,7 +150,7 @@ def run(args) -> int:
         "meta": {"source": "limit import " + " ".join(str(f) for f in files)},
     }
     n_interfaces = None
-    rec = summary.record(files, units, scale, built, blocks, mass, tolerance, n_interfaces, sorted(fixed), msgs + notes)
+    rec = summary.record(files, units, scale, built, mass, tolerance, n_interfaces, sorted(fixed), msgs + notes)
     scene["meta"]["import"] = rec
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(scene, indent=1))

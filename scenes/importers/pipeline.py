@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from limit.errors import SceneError
 from scenes.importers import decompose, gaps as gapsmod, planes, repair as repairmod
@@ -142,8 +143,6 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
                             N.append(n)
                             D.append(float(n @ P[0]))
                 verts = decompose.polytope_vertices(np.array(N), np.array(D), V2.mean(axis=0), merge)
-                from scipy.spatial import ConvexHull
-
                 vol = float(ConvexHull(verts).volume)
                 out.append(OutBlock(s.name, s.source, s.tags, verts, None, s.volume, vol, s.hull_ratio, notes))
             else:
@@ -155,8 +154,6 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
                 if dropped:
                     notes.append(f"dropped {len(dropped)} piece(s) thinner than {thin:.3g} "
                                  f"({100 * sum(dropped) / s.volume:.2g} % of its volume)")
-                from scipy.spatial import ConvexHull
-
                 vol = float(sum(ConvexHull(p).volume for p in parts))
                 if len(parts) == 1:
                     out.append(OutBlock(s.name, s.source, s.tags, parts[0], None, s.volume, vol, s.hull_ratio, notes))
@@ -211,8 +208,6 @@ def _area(Q: np.ndarray) -> float:
 
 
 def build_2d(raw: list[RawBlock], opts: Options) -> Built:
-    from scipy.spatial import ConvexHull
-
     allv = np.vstack([b.vertices for b in raw])
     diag = float(np.linalg.norm(np.ptp(allv, axis=0)))
     merge = 1e-6 * diag

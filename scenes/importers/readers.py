@@ -18,7 +18,6 @@ vertices ``(n, d)`` in the file's units, its faces as lists of vertex indices
 """
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 

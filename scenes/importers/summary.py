@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 
-def record(files, units: str, scale: float, built, blocks_out: list, mass: float, tolerance: float,
+def record(files, units: str, scale: float, built, mass: float, tolerance: float,
            n_interfaces, fixed: list, warnings: list) -> dict:
     """The ``meta.import`` dict: what was read, what the repair did, per-block ratios."""
     per = []
