@@ -20,7 +20,8 @@ from limit.errors import SceneError
 class Solid:
     """A repaired closed block: ``vertices`` (n, 3), outward polygon ``faces``, ``volume``
     (> 0, of the polygon mesh, file units^3), ``hull_volume`` (of its vertices' convex hull),
-    ``notes`` what the repair changed (e.g. 'merged 4 duplicate vertices')."""
+    ``notes`` what the repair changed (e.g. 'merged 4 duplicate vertices'), ``face_tris`` each
+    face's triangles (t, 3) of vertex indices, outward, as used for the volume."""
 
     name: str
     source: str
