@@ -77,15 +77,20 @@ def run(args) -> int:
     from limit.errors import SceneError
     from scenes.importers import pipeline, readers, summary
 
+    import time
+
     msgs = []
+    t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         files = readers.expand_paths(args.files)
         units, notes = _units(args, files)
         dim, raw = readers.read_files(files)
+        t_read = time.perf_counter() - t0
         opts = pipeline.Options(gap=args.gap, flat=args.flat, angle_deg=args.angle, vol_tol=args.volume_tol,
                                 min_width=1.5 * args.tolerance if args.tolerance else 0.0)
         built = pipeline.build(dim, raw, opts)
+    times = {"read_s": t_read, **built.times}
     msgs += [str(w.message) for w in caught if issubclass(w.category, UserWarning) and "ezdxf" not in str(w.filename)]
     msgs += built.warnings
     scale = SCALE[units]
@@ -152,6 +157,7 @@ def run(args) -> int:
     n_interfaces = None
     rec = summary.record(files, units, scale, built, mass, tolerance, n_interfaces, sorted(fixed), msgs + notes)
     scene["meta"]["import"] = rec
+    rec["times_s"] = times
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(scene, indent=1))
     problem = None
@@ -160,10 +166,13 @@ def run(args) -> int:
         from limit.model.scene import load_scene
 
         try:
+            t0 = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 sc = load_scene(scene)
+            times["check_load_s"], t0 = time.perf_counter() - t0, time.perf_counter()
             n_interfaces = len(find_interfaces(sc))
+            times["check_interfaces_s"] = time.perf_counter() - t0
             rec["interfaces"] = n_interfaces
             rec["mass_kg"] = float(sc.total_mass)
             out.write_text(json.dumps(scene, indent=1))

@@ -73,6 +73,7 @@ class Built:
     residual: float
     warnings: list
     moved: float = 0.0
+    times: dict = field(default_factory=dict)
 
 
 def _label(b) -> str:
@@ -84,10 +85,14 @@ def build(dim: int, raw: list[RawBlock], opts: Options) -> Built:
 
 
 def build_3d(raw: list[RawBlock], opts: Options) -> Built:
+    import time
+
+    times, t0 = {}, time.perf_counter()
     allv = np.vstack([b.vertices for b in raw])
     diag = float(np.linalg.norm(np.ptp(allv, axis=0)))
     merge = 1e-6 * diag
     solids = [repairmod.repair(b.name, b.source, b.tags, b.vertices, b.faces, merge) for b in raw]
+    times["repair_s"], t0 = time.perf_counter() - t0, time.perf_counter()
     fac = []
     widths = []
     for s in solids:
@@ -104,10 +109,12 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
             T = F.tris[F.label == k]
             faces.append(gapsmod.Face(bi, s.vertices[np.unique(T)], s.vertices[T], F.normal[k], F.offset[k]))
             owner.append((bi, k))
+    times["facets_s"], t0 = time.perf_counter() - t0, time.perf_counter()
     lo = np.array([s.vertices.min(axis=0) for s in solids])
     hi = np.array([s.vertices.max(axis=0) for s in solids])
     snapped = gapsmod.snap(faces, lo, hi, gap, opts.angle_deg) if gap > 0 else gapsmod.Snap([None] * len(faces), [], [])
     plane_of = {owner[k]: p for k, p in enumerate(snapped.planes) if p is not None}
+    times["joints_s"], t0 = time.perf_counter() - t0, time.perf_counter()
     warnings = []
     out, worst, moved = [], 0.0, 0.0
     for bi, (s, F) in enumerate(zip(solids, fac)):
@@ -164,10 +171,12 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
         if abs(vol / s.volume - 1) > 0.05:
             warnings.append(f"{_label(s)}: its volume changed by {100 * (vol / s.volume - 1):+.1f} % "
                             "(snapped joints, flattened faces)")
+    times["shapes_s"] = time.perf_counter() - t0
     g = np.array([p[2] for p in snapped.pairs]) if snapped.pairs else np.zeros(1)
     return Built(3, out, {"merge": merge, "gap": gap, "flat": flat, "angle_deg": opts.angle_deg,
                           "vol_tol": opts.vol_tol, "median_width": width},
-                 float(max(g.max(), 0.0)), float(max(-g.min(), 0.0)), len(snapped.clusters), worst, warnings, moved)
+                 float(max(g.max(), 0.0)), float(max(-g.min(), 0.0)), len(snapped.clusters), worst, warnings, moved,
+                 times)
 
 
 def _outline(b: RawBlock, merge: float) -> tuple[np.ndarray, list]:
