@@ -67,3 +67,41 @@ def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FAC
         if z0 is not None:
             out.append((f"lp-mu*{f:g}", z0))
     return out
+
+
+def coarse_slide_faces(P) -> int | None:
+    """The sliding faces of the coarser friction polygon of :func:`coarse_polygon_starts`, or None
+    where there is none: a 3D scene of the "paper" model whose polygon is inscribed with n faces,
+    and the largest even n_c >= 4 with n / n_c odd (> 1). The inscribed n_c-gon's vertices, at
+    angles (j + 1/2) 2 pi / n_c, are then vertices of the n-gon: it lies inside it, and a stress
+    admissible with n_c faces is admissible with n."""
+    from limit.model.assemble import friction_model
+    from limit.model.yield_domain import resolve_fit
+
+    if P.scene.dim != 3 or P.model.name != "paper":
+        return None
+    n, fit = friction_model(P.scene, P.options)
+    if resolve_fit(n, fit) != "inscribed":
+        return None
+    for r in range(3, n // 4 + 1, 2):
+        if n % r == 0 and (n // r) % 2 == 0 and n // r >= 4:
+            return n // r
+    return None
+
+
+def coarse_model(P, n_coarse: int):
+    """P assembled again with ``n_coarse`` inscribed sliding faces (the same interfaces)."""
+    import dataclasses
+
+    from limit.model.assemble import assemble
+
+    return assemble(P.scene, dataclasses.replace(P.options, n_slide=n_coarse, slide_fit="inscribed"), interfaces=P.I)
+
+
+def transfer(N: NLPProblem, N_coarse: NLPProblem, z_coarse: np.ndarray, backend: str) -> np.ndarray | None:
+    """A frictional point of the coarse model (:func:`coarse_model`) as a start of N: its alpha and
+    interface actions (admissible in N: the coarse polygon lies inside), its mechanism re-solved
+    for N's faces by :func:`limit.solve.nlp.phase1` (None where that fails)."""
+    a, x, u, _ = N_coarse.unscale(z_coarse)
+    z, _ = phase1(N, N.scale(a, x, u, np.zeros(N.P.model.n_faces)), backend)
+    return z
