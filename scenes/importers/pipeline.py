@@ -76,6 +76,15 @@ class Built:
     times: dict = field(default_factory=dict)
 
 
+
+def _tolerances(opts, widths) -> tuple[float, float, float]:
+    """(median block width, gap tolerance, flatness tolerance), in the files' units: the options'
+    values, else their defaults relative to the median width."""
+    width = float(np.median(widths))
+    gap = opts.gap if opts.gap is not None else opts.gap_rel * width
+    flat = opts.flat if opts.flat is not None else opts.flat_rel * width
+    return width, gap, flat
+
 def _label(b) -> str:
     return f"block '{b.name}' ({b.source})"
 
@@ -100,9 +109,7 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
         proj = s.vertices @ F.normal.T - F.offset
         widths.append(float(np.min(-proj.min(axis=0))))
         fac.append(F)
-    width = float(np.median(widths))
-    gap = opts.gap if opts.gap is not None else opts.gap_rel * width
-    flat = opts.flat if opts.flat is not None else opts.flat_rel * width
+    width, gap, flat = _tolerances(opts, widths)
     faces, owner = [], []
     for bi, (s, F) in enumerate(zip(solids, fac)):
         for k in range(len(F.offset)):
@@ -229,9 +236,7 @@ def build_2d(raw: list[RawBlock], opts: Options) -> Built:
         outl.append(Q)
         fac.append(E)
         notes_all.append(notes)
-    width = float(np.median(widths))
-    gap = opts.gap if opts.gap is not None else opts.gap_rel * width
-    flat = opts.flat if opts.flat is not None else opts.flat_rel * width
+    width, gap, flat = _tolerances(opts, widths)
     faces, owner = [], []
     for bi, (Q, E) in enumerate(zip(outl, fac)):
         k = len(Q)
