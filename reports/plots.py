@@ -26,8 +26,10 @@ from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from limit.model.dims import rigid_velocity  # noqa: E402
 
 AMPLIFY = 0.08
-COLORS = {"lp": "#4c72b0", "nlp": "#dd8452", "dem": "#55a868", "ref": "black", "global": "#8172b3"}
-LABELS = {"lp": "LP (associative)", "nlp": "NLP (frictional)", "dem": "DEM (YADE)"}
+COLORS = {"lp": "#4c72b0", "nlp": "#dd8452", "dem": "#55a868", "ref": "black", "global": "#8172b3",
+          "dead": "#c44e52"}
+LABELS = {"lp": "LP (associative)", "nlp": "NLP (frictional)", "dem": "DEM (YADE)",
+          "dead": "collapse under the dead load alone"}
 
 
 def _moved(scene, per_block: dict, scale: float):
@@ -69,6 +71,9 @@ def _scale(scene, per_block: dict) -> float:
 def _panels(la: dict, dem: dict | None):
     out = []
     lp, nlp = la.get("lp") or {}, la.get("nlp") or {}
+    dead = lp.get("dead_load_mechanism")
+    if dead and dead.get("mechanism"):  # the LP is infeasible: nothing else to draw
+        return [("dead", dead["mechanism"], None, dead.get("interfaces"))]
     if lp.get("mechanism"):
         out.append(("lp", lp["mechanism"], lp.get("alpha"), lp.get("interfaces")))
     if nlp.get("status") == "optimal" and nlp.get("mechanism"):

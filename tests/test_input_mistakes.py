@@ -207,6 +207,15 @@ def test_solve_draws_the_dead_load_mechanism(tmp_path, write_scene, capsys):
     assert png.stat().st_size > 1000 and png.read_bytes()[:4] == b"\x89PNG"
 
 
+def test_the_dead_load_figure_is_titled_as_the_dead_load_collapse():
+    """The figure of an infeasible LP draws one panel, the dead-load mechanism, under its own label."""
+    from reports.plots import LABELS, _panels
+
+    panels = _panels(analyse(load_scene(_overhang()), method="lp"), None)
+    assert [p[0] for p in panels] == ["dead"] and "dead load" in LABELS["dead"]
+    assert [b for b, u in panels[0][1].items() if max(map(abs, u)) > 1e-9] == ["c1-2"]
+
+
 def test_solve_draws_the_collapse_mechanism(tmp_path, write_scene, capsys):
     png = tmp_path / "m.png"
     assert main(["solve", str(write_scene(ROCKING)), "--method", "lp", "--plot", str(png)]) == 0

@@ -7,7 +7,4 @@ def plot_mechanism(scene, res: dict, path) -> bool:
     """Write the figure of ``res`` (a public result) to ``path``; False when there is nothing to draw."""
     from reports.plots import mechanism_figure
 
-    dead = (res.get("lp") or {}).get("dead_load_mechanism")
-    if dead:
-        res = {"lp": {"mechanism": dead["mechanism"], "alpha": None, "interfaces": dead["interfaces"]}}
     return mechanism_figure(scene, res, None, path)
