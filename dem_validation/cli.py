@@ -117,6 +117,7 @@ def summary(result: dict) -> str:
 def cmd_run(args) -> int:
     from limit import jsonio
     from limit.geom.interfaces import find_interfaces
+    from limit.model.pair_checks import check_friction_pairs
     from limit.model.scene import load_scene
 
     from .api import run_loaded
@@ -131,6 +132,7 @@ def cmd_run(args) -> int:
         return 2
     scene = load_scene(args.scene)
     I = find_interfaces(scene)
+    check_friction_pairs(scene, I)  # an override that applies to no joint: exit 2, as in limit solve
     progress = None if args.quiet else _Progress()
     if args.engine == "lmgc90":
         dem = run_loaded_lmgc90(scene, p, timeout_s=args.timeout, progress=progress, interfaces=I)

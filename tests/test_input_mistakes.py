@@ -105,6 +105,18 @@ def test_a_friction_override_for_blocks_without_an_interface_is_rejected_naming_
         analyse(load_scene(d), method="lp")
 
 
+def test_the_dem_command_rejects_a_friction_override_for_blocks_without_an_interface(capsys, write_scene):
+    """Before any engine starts: exit 2 and the entry named, as limit solve does."""
+    import dem_validation.cli
+
+    d = copy.deepcopy(GOOD2)
+    d["blocks"].append({"id": "far", "box": {"center": [3.0, 0.0875], "size": [0.4, 0.175]}})
+    d["interfaces"] = {"friction": [{"blocks": ["c0-0", "far"], "mu": 0.4}]}
+    assert dem_validation.cli.main(["run", str(write_scene(d)), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: interfaces.friction[0].blocks: 'c0-0' and 'far' do not touch")
+
+
 def test_a_friction_override_for_touching_blocks_is_accepted(write_scene):
     d = edited(GOOD2, lambda d: d.update(interfaces={"friction": [{"blocks": ["c1-1", "c0-1"], "mu": 0.3}]}))
     assert main(["info", str(write_scene(d))]) == 0
