@@ -60,6 +60,10 @@ def _parser() -> argparse.ArgumentParser:
                     help="also run the NLP from an arbitrary start (the paper's Fig. 4 comparison)")
     ps.add_argument("--nlp-time-budget", type=float, default=None, metavar="S",
                     help="wall-clock budget of step 2 in s: no restart begins after it (default 120)")
+    ps.add_argument("--dem-start", metavar="DEM.json", default=None,
+                    help="also start step 2 from a DEM run's collapse state (its result file, python -m "
+                         "dem_validation run --json): the joints it opens and slides as the piece LP's flowing "
+                         "faces; a verified point below step 2's alpha becomes the answer")
     pc = sub.add_parser("check", help="code check of the local mechanism: M*, e*, a0*, capacity curve, verdict "
                                       "(NTC 2018 / Circolare C8.7.1)")
     pc.add_argument("scene")
@@ -196,6 +200,22 @@ def cmd_solve(args) -> int:
         if not args.global_time_limit > 0:
             raise SceneError(f"--global-time-limit: must be > 0 s, got {args.global_time_limit}")
         nlp_options["global_time_limit"] = args.global_time_limit
+    if args.dem_start is not None:
+        from limit.solve.dem_start import state_of
+
+        if args.method == "lp":
+            raise SceneError("--dem-start: starts step 2, which --method lp does not run")
+        try:
+            import json
+
+            with open(args.dem_start, encoding="utf-8") as fh:
+                nlp_options["dem_state"] = state_of(json.load(fh))
+        except (OSError, ValueError) as exc:
+            raise SceneError(f"--dem-start {args.dem_start}: {exc}") from None
+        unknown = sorted(set(nlp_options["dem_state"]["displacement"]) - {b.id for b in scene.blocks})
+        if unknown:
+            raise SceneError(f"--dem-start {args.dem_start}: block '{unknown[0]}' is not in the scene "
+                             f"({len(unknown)} unknown id(s)): a DEM run of another scene?")
     res = analyse(scene, method=args.method, options=opts, solver=args.solver,
                   fallback=not args.no_fallback, check_kinematic=args.check_kinematic, nlp_options=nlp_options)
     print(format_result(res))

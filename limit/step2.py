@@ -156,7 +156,8 @@ GLOBAL_MAX_BLOCKS = 30
 
 def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = "auto",
           arbitrary: bool = False, global_check: bool = False, iterative: bool = False,
-          global_time_limit: float = 120.0, time_budget: float | None = TIME_BUDGET) -> dict:
+          global_time_limit: float = 120.0, time_budget: float | None = TIME_BUDGET,
+          dem_state: dict | None = None) -> dict:
     """The ``nlp`` part of the result file (docs/formats.md, 'Result file').
 
     ``method`` "auto" skips the NLP where the LP's mechanism has no sliding or twisting
@@ -169,7 +170,9 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).
     ``global_check`` adds the mixed-integer global minimum (:mod:`limit.solve.milp`) for scenes of up
     to GLOBAL_MAX_BLOCKS free blocks; ``iterative`` the iterative LP of Gilbert et al.
-    (:mod:`limit.solve.iterative_lp`). ``time_budget``: see :func:`run`.
+    (:mod:`limit.solve.iterative_lp`). ``time_budget``: see :func:`run`. ``dem_state``
+    ({"displacement": {block id: motion}, "source": "yade"|...}): a dynamic run's collapse state,
+    tried as a start by :func:`adopt_dem_state` after the rest.
     """
     t0 = time.perf_counter()
     if lp_sol.status not in ("optimal", "unbounded"):
@@ -192,6 +195,8 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         part = {"status": "skipped", "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
                 "verification": checked, "mechanism": mechanism.per_block(P, lp_sol.u)}
         _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
+        if dem_state is not None:
+            adopt_dem_state(P, lp_sol, part, dem_state)
         part["time_s"] = time.perf_counter() - t0  # with the independent routes, as below
         return part
     small = not large  # the successive LP's route (an arbitrary start is run below only there)
@@ -228,8 +233,42 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         part["arbitrary_start_status"] = "optimal" if arb.get("ok") else f"failed: {arb.get('reason')}"
     _independent(P, lp_sol, part, part["alpha"] if out["ok"] else lp_sol.alpha, global_check, iterative,
                  global_time_limit)
+    if dem_state is not None:
+        adopt_dem_state(P, lp_sol, part, dem_state)
     part["time_s"] = time.perf_counter() - t0
     return part
+
+
+def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
+    """Step 2 from a dynamic run's collapse state (:func:`limit.solve.dem_start.solve`), recorded as
+    ``part["dem_start"]``; its verified point becomes the answer, in place, where it is lower than
+    the part's alpha by more than LOWER_BY (or the part has none). ``part["alpha_step2"]`` keeps
+    the alpha it replaces. Returns the ``dem_start`` entry."""
+    from limit.solve import dem_start
+
+    source = dem_state.get("source") or "dem"
+    r = dem_start.solve(P, lp_sol, dem_state.get("displacement") or {})
+    own = part.get("alpha") if part.get("status") in ("optimal", "skipped") else None
+    entry = {"source": source, "status": r["status"], "alpha": r["alpha"], "tau": r["tau"],
+             "n_flowing": r["n_flowing"], "misfit": r["misfit"], "tried": r["tried"], "time_s": r["time_s"],
+             "reason": r["reason"], "adopted": False}
+    if dem_state.get("alpha") is not None:
+        entry["dem_alpha"] = dem_state["alpha"]
+    part["dem_start"] = entry
+    if r["status"] != "optimal" or not lower(r["alpha"], own):
+        if r["status"] == "optimal":
+            entry["reason"] = f"verified, not below step 2's {own:.6g}"
+        return entry
+    N = r["N"]
+    entry["adopted"] = True
+    part.update(_point_part(P, N, r["z"]))
+    part.update(status="optimal", alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
+                verification=nlp.check(N, r["z"], lp_sol.alpha)[1],
+                reason=(f"the {source} run's collapse state (flowing faces: multipliers above {r['tau']:g} of the "
+                        f"largest, {r['n_flowing']}) gave a verified point below step 2's "
+                        + (f"{own:.6g}" if own is not None else "failure")))
+    part.pop("alpha_rejected", None)
+    return entry
 
 
 #: free blocks from which ``solver="auto"`` takes the large-scale route (:mod:`limit.solve.step2_large`):

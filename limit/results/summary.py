@@ -33,6 +33,12 @@ def format_result(res: dict) -> str:
                          f"{g.get('time_s') or 0:.3g} s]" + (f"  gap of the NLP {g['gap']:.2e}" if g.get("gap") is not None else "")
                          + {True: "  (its point passed the check: the answer)",
                             False: "  (its point failed the check: not the answer)"}.get(g.get("adopted"), ""))
+        ds = nlp.get("dem_start")
+        if ds:
+            a = ds.get("alpha")
+            lines.append(f"from the {ds['source']} collapse state: {'alpha = %.6g' % a if a is not None else '-'}  "
+                         f"[{ds['status']}, {ds.get('time_s') or 0:.3g} s]"
+                         + ("  (the answer)" if ds.get("adopted") else f"  {ds['reason']}" if ds.get("reason") else ""))
         it = nlp.get("iterative_lp")
         if it:
             a = it.get("alpha")

@@ -1,0 +1,142 @@
+"""Step 2 from a dynamic run's collapse state: the joints that a DEM pushover opens, slides and
+twists as the flowing set of the piece LP (:func:`limit.solve.nlp.polish`).
+
+A collapsing DEM trial ends with a displacement per free block, ``u`` (m and rad: [ux, uy, rz]
+in 2D, [ux, uy, uz, rx, ry, rz] in 3D, about the block's centroid, scene axes; the ``displacement``
+of a DEM result, docs/formats.md). Its relative motion at each interface, ``E^T u`` (the
+compatibility of Baggio & Trovalusci, eq. 3), is split on that interface's non-associative flow
+directions: ``min |G_k lam_k - (E^T u)_k|, lam_k >= 0`` (a non-negative least-squares problem per
+interface, scipy.optimize.nnls; G as in eq. 9: no dilatancy). The faces whose multiplier exceeds
+``tau`` times the largest one flow. The motion of a dynamic run is not a rigid mechanism: blocks
+that stay also settle by the contact compliance, so every rung of :data:`TAU` is tried, from the
+largest motions to the smallest. Each flowing set gives the piece LP: the faces that flow keep
+their slack at 0, the others their multiplier at 0, min alpha. Its point is checked by
+:func:`limit.solve.nlp.check` like any other, so a wrong guess costs a piece LP and adds no
+unverified number. A lower rung's set contains a higher one's, so its piece LP has every slack of
+the higher one's at 0 and more: its alpha is no lower. The rungs stop at the first verified point.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy.optimize import nnls
+
+from limit.solve import nlp
+
+#: relative multiplier thresholds of the flowing set, largest first: one piece LP each
+TAU = (0.1, 0.03, 0.01, 0.003, 0.001)
+
+
+def state_of(data: dict) -> dict:
+    """The collapse state in a result file: a ``python -m dem_validation run`` file (its ``dem``
+    part), a DEM part itself, or a catalog result with ``dem``/``lmgc`` parts (the first that has
+    a displacement). {"displacement", "alpha", "source"}; ValueError naming what is missing."""
+    if not isinstance(data, dict):
+        raise ValueError("not a result file (a JSON object)")
+    parts = [data] + [data[k] for k in ("dem", "lmgc") if isinstance(data.get(k), dict)]
+    for part in parts:
+        disp = part.get("displacement")
+        if isinstance(disp, dict) and disp:
+            engine = part.get("engine") or ("lmgc90" if part is data.get("lmgc") else "yade")
+            return {"displacement": disp, "alpha": part.get("alpha"), "source": engine}
+    raise ValueError("no 'displacement' (per free block) in it: give the result file of a collapsed DEM run "
+                     "(python -m dem_validation run ... --json OUT.json)")
+
+
+def dof_vector(P, displacement: dict) -> np.ndarray:
+    """(n_dof,) the displacement of every free block in P's dof order (blocked dofs dropped);
+    a free block missing from ``displacement`` does not move. ValueError for a block entry of the
+    wrong length."""
+    nd = P.scene.ndof
+    U = np.zeros((len(P.scene.free), nd))
+    for k, i in enumerate(P.scene.free):
+        u = displacement.get(P.scene.blocks[i].id)
+        if u is None:
+            continue
+        if len(u) != nd:
+            raise ValueError(f"displacement of block '{P.scene.blocks[i].id}': {len(u)} components, "
+                             f"a {P.scene.dim}D scene has {nd}")
+        U[k] = u
+    full = U.ravel()
+    return full if P.keep is None else full[P.keep]
+
+
+def multipliers(P, N, vh: np.ndarray) -> tuple[np.ndarray, float]:
+    """(lamh (n_faces,) >= 0, relative misfit): the flow ``Gh lamh`` nearest to the interface
+    motions ``Eh^T vh``, interface by interface (scaled units of :mod:`limit.solve.nlp_problem`).
+    The misfit is |Gh lamh - Eh^T vh| / |Eh^T vh|: 0 for a motion without dilatancy."""
+    d = P.Eh.T @ vh
+    lam = np.zeros(P.model.n_faces)
+    G = N.Gh.tocsc()
+    face_if = np.asarray(P.model.iface)
+    x_if = np.asarray(P.model.x_iface)
+    rows_of = _groups(x_if)
+    cols_of = _groups(face_if)
+    miss = 0.0
+    for k, cols in cols_of.items():
+        rows = rows_of.get(k)
+        if rows is None or not np.any(d[rows]):
+            continue
+        Gk = G[:, cols][rows].toarray()
+        lam[cols], r = nnls(Gk, d[rows])
+        miss += r * r
+    ref = float(np.linalg.norm(d))
+    return lam, (np.sqrt(miss) / ref if ref > 0 else 0.0)
+
+
+def _groups(labels: np.ndarray) -> dict:
+    order = np.argsort(labels, kind="stable")
+    keys, starts = np.unique(labels[order], return_index=True)
+    return {int(k): order[a:b] for k, a, b in zip(keys, starts, np.append(starts[1:], order.size))}
+
+
+def solve(P, lp_sol, displacement: dict, backend: str | None = None) -> dict:
+    """The verified frictional collapse state of the first flowing set of a DEM displacement that gives one.
+
+    Returns {"status": "optimal" | "failed", "alpha", "z" (scaled point of N, or None), "N",
+    "tau" (the rung that gave it), "n_flowing", "misfit", "tried": [{"tau", "n_flowing", "alpha",
+    "verified", "reason"}], "time_s", "reason"}. ``backend`` of the piece LP
+    (:mod:`limit.solve.lpsub`; None: "highs" up to 3,000 unknowns, else "clarabel")."""
+    from limit.solve.nlp_problem import build
+
+    t0 = time.perf_counter()
+    N = build(P)
+    backend = backend or ("highs" if N.n <= 3000 else "clarabel")
+    vh = dof_vector(P, displacement) * P.Df
+    out = {"status": "failed", "alpha": None, "z": None, "N": N, "tau": None, "n_flowing": 0, "tried": []}
+    if not np.any(vh):
+        return {**out, "misfit": None, "time_s": time.perf_counter() - t0,
+                "reason": "the displacement moves no free block"}
+    lam, misfit = multipliers(P, N, vh)
+    out["misfit"] = misfit
+    if lam.max(initial=0.0) <= 0.0:
+        return {**out, "time_s": time.perf_counter() - t0, "reason": "no joint of the displacement flows"}
+    alpha_ref = lp_sol.alpha if lp_sol is not None and lp_sol.status == "optimal" else None
+    seen = set()
+    best = None
+    for tau in TAU:
+        flows = lam > tau * lam.max()
+        key = flows.tobytes()
+        if key in seen:
+            continue
+        seen.add(key)
+        z = N.join(lp_sol.alpha if alpha_ref is not None else 0.0, lp_sol.x / P.Dx if alpha_ref is not None
+                   else np.zeros(P.model.n_x), vh, np.where(flows, lam, 0.0))
+        zp, note = nlp.polish(N, z, backend, rule="support")
+        entry = {"tau": tau, "n_flowing": int(flows.sum()), "alpha": None, "verified": False}
+        if zp is None:
+            entry["reason"] = note
+        else:
+            ok, _, why = nlp.check(N, zp, alpha_ref)
+            entry.update(alpha=float(zp[N.ia]), verified=bool(ok), reason=why or note)
+            if ok:
+                best = (zp, tau, int(flows.sum()))
+        out["tried"].append(entry)
+        if best is not None:
+            break
+    out["time_s"] = time.perf_counter() - t0
+    if best is None:
+        return {**out, "reason": f"no flowing set of the displacement gave a verified point ({len(out['tried'])} tried)"}
+    z, tau, n = best
+    return {**out, "status": "optimal", "alpha": float(z[N.ia]), "z": z, "tau": tau, "n_flowing": n, "reason": ""}

@@ -1,0 +1,156 @@
+"""Step 2 from a dynamic run's collapse state (limit.solve.dem_start, step2.adopt_dem_state, and
+``limit solve --dem-start``), against the closed form of two blocks side by side.
+
+The scene (scenes.builders.side_by_side, mu = 0.5): a slender block A (0.2 x 1.0) against a squat
+block B (0.5 x 0.6) on a fixed base, under a horizontal body force along +x. Its frictional
+collapse (derived in the builder's docstring): A rotates clockwise about its right toe (b1, 0),
+pushing B, which slides on the base; alpha = 23/61. The displacement of that mechanism, for a
+rotation of A of -1 rad: A's centroid (b1/2, h1/2) turns about the toe, r = (-b1/2, h1/2), so
+u_A = omega x r = (h1/2, b1/2) with rz = -1; A's point at B's top corner (b1, h2) moves h2 along
+x, and B follows it: u_B = (h2, 0), rz = 0. In 3D (the y axis out of the plane) the same motion
+is a rotation of +1 about y: [h1/2, 0, b1/2, 0, 1, 0] and [h2, 0, 0, 0, 0, 0].
+"""
+import json
+
+import numpy as np
+import pytest
+
+from limit import step2
+from limit.analysis import solve_lp
+from limit.cli import main
+from limit.model.assemble import assemble
+from limit.model.scene import load_scene
+from limit.solve import dem_start, verify
+from scenes import builders as B
+
+B1, H1, B2, H2 = 0.2, 1.0, 0.5, 0.6
+CLOSED = B.side_by_side_alpha(mu=0.5)  # 23/61
+
+
+def _mechanism(dim, noise=0.0, seed=0):
+    if dim == 2:
+        d = {"A": [H1 / 2, B1 / 2, -1.0], "B": [H2, 0.0, 0.0]}
+    else:
+        d = {"A": [H1 / 2, 0.0, B1 / 2, 0.0, 1.0, 0.0], "B": [H2, 0.0, 0.0, 0.0, 0.0, 0.0]}
+    rng = np.random.default_rng(seed)
+    return {k: (np.asarray(v) + noise * rng.standard_normal(len(v))).tolist() for k, v in d.items()}
+
+
+def _setup(dim):
+    P = assemble(load_scene(B.side_by_side(dim=dim, mu=0.5)))
+    sol, _, _ = solve_lp(P)
+    assert sol.status == "optimal"
+    return P, sol
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("noise", [0.0, 1e-4])
+def test_the_collapse_mechanism_as_a_start_gives_the_closed_form(dim, noise):
+    """With the rigid mechanism, and with settling noise of 1e-4 of its size on every block dof (a
+    DEM's compliance moves every block a little), the piece LP on the flowing faces gives 23/61,
+    below the associative LP's 7/17, and the point passes the independent check."""
+    P, sol = _setup(dim)
+    r = dem_start.solve(P, sol, _mechanism(dim, noise))
+    assert r["status"] == "optimal"
+    assert r["alpha"] == pytest.approx(CLOSED, rel=1e-9)
+    assert sol.alpha == pytest.approx(7 / 17, rel=1e-6) and r["alpha"] < sol.alpha - 1e-3
+    assert r["tried"][-1]["verified"] and r["n_flowing"] >= 2
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_sliding_block_gives_mu(dim):
+    """One block (1.0 wide, 0.5 tall: it rocks only at alpha = b/h = 2) sliding on its base along
+    +x: the base joint slides without dilatancy, and alpha = mu = 0.35."""
+    P = assemble(load_scene(B.single_block(dim=dim, b=1.0, h=0.5, t=1.0, mu=0.35)))
+    sol, _, _ = solve_lp(P)
+    free = P.scene.blocks[P.scene.free[0]].id
+    r = dem_start.solve(P, sol, {free: [1.0] + [0.0] * (P.scene.ndof - 1)})
+    assert r["status"] == "optimal" and r["alpha"] == pytest.approx(0.35, rel=1e-9) and r["misfit"] < 1e-9
+
+
+def test_no_motion_gives_no_point():
+    P, sol = _setup(2)
+    r = dem_start.solve(P, sol, {"A": [0.0, 0.0, 0.0]})
+    assert r["status"] == "failed" and r["alpha"] is None and "moves no free block" in r["reason"]
+
+
+def test_a_displacement_of_the_wrong_dimension_is_named():
+    P, sol = _setup(2)
+    with pytest.raises(ValueError, match="block 'A': 6 components, a 2D scene has 3"):
+        dem_start.solve(P, sol, {"A": [0.0] * 6})
+
+
+def test_the_dem_state_becomes_step2s_answer_where_step2_finds_nothing(monkeypatch):
+    """Step 2's own routes are made to fail: the DEM start's verified point is the answer, route
+    "dem-start", and step 2's missing alpha is kept as alpha_step2."""
+    P, sol = _setup(2)
+
+    def fail(*a, **k):
+        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+    monkeypatch.setattr(step2, "run", fail)
+    monkeypatch.setattr(step2, "_large", fail)
+    res = step2.step2(P, sol, method="nlp", dem_state={"displacement": _mechanism(2), "source": "yade"})
+    assert res["status"] == "optimal" and res["route"] == "dem-start" and res["alpha_step2"] is None
+    assert res["alpha"] == pytest.approx(CLOSED, rel=1e-9)
+    assert res["verification"]["complementarity"] <= verify.TOL_COMP
+    assert res["dem_start"]["adopted"] is True and "yade run's collapse state" in res["reason"]
+
+
+def test_a_dem_state_not_below_step2_is_recorded_and_not_adopted():
+    """Step 2 finds 23/61 itself; the DEM state verifies the same alpha, which is not lower."""
+    P, sol = _setup(2)
+    res = step2.step2(P, sol, method="nlp", dem_state={"displacement": _mechanism(2), "source": "lmgc90"})
+    assert res["alpha"] == pytest.approx(CLOSED, rel=1e-4) and res["route"] != "dem-start"
+    ds = res["dem_start"]
+    assert ds["source"] == "lmgc90" and ds["adopted"] is False
+    assert ds["alpha"] == pytest.approx(CLOSED, rel=1e-9) and "not below step 2's" in ds["reason"]
+
+
+def test_solve_reads_a_dem_result_file(tmp_path, write_scene, capsys):
+    scene = write_scene(B.side_by_side(dim=2, mu=0.5))
+    dem = tmp_path / "dem.json"
+    dem.write_text(json.dumps({"scene": "x", "dem": {"status": "collapsed", "alpha": 0.37,
+                                                        "displacement": _mechanism(2)}}))
+    out_json = tmp_path / "r.json"
+    assert main(["solve", str(scene), "--method", "nlp", "--dem-start", str(dem), "--json", str(out_json)]) == 0
+    assert "from the yade collapse state: alpha = 0.377049" in capsys.readouterr().out
+    written = json.loads(out_json.read_text())
+    assert written["nlp"]["dem_start"]["status"] == "optimal"
+    _validate(written)  # the result file's schema knows the part
+
+
+def test_an_adopted_dem_state_is_a_valid_result_file(monkeypatch):
+    from limit.analysis import analyse, public
+    from limit import jsonio
+
+    def fail(*a, **k):
+        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+    monkeypatch.setattr(step2, "run", fail)
+    monkeypatch.setattr(step2, "_large", fail)
+    res = analyse(load_scene(B.side_by_side(dim=3, mu=0.5)), method="nlp",
+                  nlp_options={"dem_state": {"displacement": _mechanism(3), "source": "yade"}})
+    assert res["nlp"]["route"] == "dem-start"
+    _validate(json.loads(jsonio.dumps(public(res))))
+
+
+def _validate(result: dict) -> None:
+    from importlib import resources
+
+    import fastjsonschema
+
+    schema = json.loads(resources.files("limit").joinpath("result-1.schema.json").read_text())
+    fastjsonschema.compile(schema)(result)
+
+
+@pytest.mark.parametrize("content,frag", [
+    ({"dem": {"status": "stable", "alpha": None}}, "no 'displacement'"),
+    ({"dem": {"displacement": {"Z": [0, 0, 0]}}}, "block 'Z' is not in the scene"),
+    ([1, 2], "not a result file"),
+])
+def test_solve_rejects_a_dem_file_without_a_usable_state(tmp_path, write_scene, capsys, content, frag):
+    scene = write_scene(B.side_by_side(dim=2, mu=0.5))
+    dem = tmp_path / "dem.json"
+    dem.write_text(json.dumps(content))
+    assert main(["solve", str(scene), "--dem-start", str(dem)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --dem-start") and frag in err
