@@ -14,6 +14,12 @@ their slack at 0, the others their multiplier at 0, min alpha. Its point is chec
 :func:`limit.solve.nlp.check` like any other, so a wrong guess costs a piece LP and adds no
 unverified number. A lower rung's set contains a higher one's, so its piece LP has every slack of
 the higher one's at 0 and more: its alpha is no lower. The rungs stop at the first verified point.
+
+A DEM run's displacement is that of a collapse well under way (large motions, every joint of the
+moving part flagged), and its piece LP is often infeasible: s = 0 on too many faces. Then each
+flowing set steers a successive-LP run instead: its first mechanism is the one nearest to the set
+(:func:`limit.solve.nlp.phase1`, a unit cost on the multipliers of the faces outside it), and
+complementarity is reached by the penalty of :func:`limit.solve.nlp.solve_sla`.
 """
 from __future__ import annotations
 
@@ -26,6 +32,8 @@ from limit.solve import nlp
 
 #: relative multiplier thresholds of the flowing set, largest first: one piece LP each
 TAU = (0.1, 0.03, 0.01, 0.003, 0.001)
+#: wall-clock budget (s) of the successive LPs from the flowing sets, when no piece LP verifies
+SLA_BUDGET = 60.0
 
 
 def state_of(data: dict) -> dict:
@@ -91,20 +99,26 @@ def _groups(labels: np.ndarray) -> dict:
     return {int(k): order[a:b] for k, a, b in zip(keys, starts, np.append(starts[1:], order.size))}
 
 
-def solve(P, lp_sol, displacement: dict, backend: str | None = None) -> dict:
-    """The verified frictional collapse state of the first flowing set of a DEM displacement that gives one.
+def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget: float = SLA_BUDGET) -> dict:
+    """The lowest verified frictional collapse state from the flowing sets of a DEM displacement.
 
-    Returns {"status": "optimal" | "failed", "alpha", "z" (scaled point of N, or None), "N",
-    "tau" (the rung that gave it), "n_flowing", "misfit", "tried": [{"tau", "n_flowing", "alpha",
-    "verified", "reason"}], "time_s", "reason"}. ``backend`` of the piece LP
-    (:mod:`limit.solve.lpsub`; None: "highs" up to 3,000 unknowns, else "clarabel")."""
+    First the piece LP of each rung of :data:`TAU` (up to the first verified point); where none
+    verifies, the successive LP (:func:`limit.solve.nlp.solve_sla`) from the mechanism nearest to
+    each flowing set in turn (:func:`limit.solve.nlp.phase1` with a unit cost on the multipliers of
+    the faces outside it, the LP's statics), within ``time_budget`` s, keeping the lowest verified
+    point. Returns {"status": "optimal" | "failed", "alpha", "z" (scaled point of N, or None),
+    "N", "tau" (the rung that gave it), "n_flowing", "how" ("piece LP" or "successive LP"),
+    "misfit", "tried": [{"tau", "how", "n_flowing", "alpha", "verified", "reason"}], "time_s",
+    "reason"}. ``backend`` of the LPs (:mod:`limit.solve.lpsub`; None: "highs" up to 3,000
+    unknowns, else "clarabel")."""
     from limit.solve.nlp_problem import build
 
     t0 = time.perf_counter()
     N = build(P)
     backend = backend or ("highs" if N.n <= 3000 else "clarabel")
     vh = dof_vector(P, displacement) * P.Df
-    out = {"status": "failed", "alpha": None, "z": None, "N": N, "tau": None, "n_flowing": 0, "tried": []}
+    out = {"status": "failed", "alpha": None, "z": None, "N": N, "tau": None, "n_flowing": 0, "how": None,
+           "tried": []}
     if not np.any(vh):
         return {**out, "misfit": None, "time_s": time.perf_counter() - t0,
                 "reason": "the displacement moves no free block"}
@@ -112,31 +126,54 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None) -> dict:
     out["misfit"] = misfit
     if lam.max(initial=0.0) <= 0.0:
         return {**out, "time_s": time.perf_counter() - t0, "reason": "no joint of the displacement flows"}
-    alpha_ref = lp_sol.alpha if lp_sol is not None and lp_sol.status == "optimal" else None
-    seen = set()
-    best = None
+    have_lp = lp_sol is not None and lp_sol.status == "optimal"
+    alpha_ref = lp_sol.alpha if have_lp else None
+    statics = (lp_sol.alpha, lp_sol.x / P.Dx) if have_lp else (0.0, np.zeros(P.model.n_x))
+    rungs, seen = [], set()
     for tau in TAU:
         flows = lam > tau * lam.max()
-        key = flows.tobytes()
-        if key in seen:
-            continue
-        seen.add(key)
-        z = N.join(lp_sol.alpha if alpha_ref is not None else 0.0, lp_sol.x / P.Dx if alpha_ref is not None
-                   else np.zeros(P.model.n_x), vh, np.where(flows, lam, 0.0))
+        if flows.tobytes() not in seen:
+            seen.add(flows.tobytes())
+            rungs.append((tau, flows))
+    best = None
+    for tau, flows in rungs:  # the piece LPs: a superset's alpha is no lower, so the first verified ends them
+        z = N.join(statics[0], statics[1], vh, np.where(flows, lam, 0.0))
         zp, note = nlp.polish(N, z, backend, rule="support")
-        entry = {"tau": tau, "n_flowing": int(flows.sum()), "alpha": None, "verified": False}
-        if zp is None:
-            entry["reason"] = note
-        else:
-            ok, _, why = nlp.check(N, zp, alpha_ref)
-            entry.update(alpha=float(zp[N.ia]), verified=bool(ok), reason=why or note)
-            if ok:
-                best = (zp, tau, int(flows.sum()))
-        out["tried"].append(entry)
+        best = _record(out, N, zp, note, alpha_ref, tau, "piece LP", int(flows.sum()), best)
         if best is not None:
             break
+    deadline = t0 + time_budget
+    for tau, flows in ([] if best is not None else rungs):
+        if time.perf_counter() > deadline:
+            out["tried"].append({"tau": tau, "how": "successive LP", "n_flowing": int(flows.sum()), "alpha": None,
+                                 "verified": False, "reason": f"not begun: time budget of {time_budget:g} s spent"})
+            continue
+        z0, why = nlp.phase1(N, N.join(statics[0], statics[1], vh, lam), backend, face_cost=(~flows).astype(float))
+        if z0 is None:
+            out["tried"].append({"tau": tau, "how": "successive LP", "n_flowing": int(flows.sum()), "alpha": None,
+                                 "verified": False, "reason": why})
+            continue
+        z, _ = nlp.solve_sla(N, z0, backend, deadline=deadline)
+        zf, ok, _, why, note = nlp.finish(N, z, alpha_ref, backend)
+        best = _record(out, N, zf if ok else None, note if ok else f"{why} ({note})", alpha_ref, tau,
+                       "successive LP", int(flows.sum()), best)
     out["time_s"] = time.perf_counter() - t0
     if best is None:
         return {**out, "reason": f"no flowing set of the displacement gave a verified point ({len(out['tried'])} tried)"}
-    z, tau, n = best
-    return {**out, "status": "optimal", "alpha": float(z[N.ia]), "z": z, "tau": tau, "n_flowing": n, "reason": ""}
+    z, tau, n, how = best
+    return {**out, "status": "optimal", "alpha": float(z[N.ia]), "z": z, "tau": tau, "n_flowing": n, "how": how,
+            "reason": ""}
+
+
+def _record(out, N, zp, note, alpha_ref, tau, how, n_flowing, best):
+    """Append one try to ``out["tried"]``; the better of ``best`` and a verified ``zp``."""
+    entry = {"tau": tau, "how": how, "n_flowing": n_flowing, "alpha": None, "verified": False}
+    if zp is None:
+        entry["reason"] = note
+    else:
+        ok, _, why = nlp.check(N, zp, alpha_ref)
+        entry.update(alpha=float(zp[N.ia]), verified=bool(ok), reason=why or note)
+        if ok and (best is None or zp[N.ia] < best[0][N.ia]):
+            best = (zp, tau, n_flowing, how)
+    out["tried"].append(entry)
+    return best

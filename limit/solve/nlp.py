@@ -45,8 +45,10 @@ TOL_COMP = 1e-7     # complementarity lam . s, in units of alpha (relative to ma
 # Phase 1
 
 
-def phase1(N: NLPProblem, z0: np.ndarray, backend: str) -> tuple[np.ndarray | None, str]:
-    """Keep alpha and the stresses of z0, find a non-associative mechanism minimising lam . s.
+def phase1(N: NLPProblem, z0: np.ndarray, backend: str, face_cost: np.ndarray | None = None
+           ) -> tuple[np.ndarray | None, str]:
+    """Keep alpha and the stresses of z0, find a non-associative mechanism minimising lam . s
+    (``face_cost`` (n_faces,) >= 0: lam . face_cost instead).
 
     Only the kinematic unknowns (vh, lamh) are solved for: the flow rule
     ``Eh.T vh - Gh lamh = 0``, ``fLh . vh = 1``, ``lamh >= 0``. The statics of z0 are
@@ -60,7 +62,7 @@ def phase1(N: NLPProblem, z0: np.ndarray, backend: str) -> tuple[np.ndarray | No
                    sp.hstack([sp.csr_matrix(P.fLh.reshape(1, -1)), sp.csr_matrix((1, nf))])]).tocsr()
     b = np.zeros(A.shape[0])
     b[-1] = 1.0
-    c = np.concatenate([np.zeros(nv), np.maximum(N.slack(z0), 0.0)])
+    c = np.concatenate([np.zeros(nv), np.maximum(N.slack(z0), 0.0) if face_cost is None else face_cost])
     lo = np.concatenate([np.full(nv, -np.inf), np.zeros(nf)])
     hi = np.full(nv + nf, np.inf)
     res = lpsub.solve(c, A, b, sp.csr_matrix((0, nv + nf)), np.zeros(0), lo, hi, backend)
