@@ -253,10 +253,13 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
             mech_png[name] = None
             print(f"report: no figure for {name}: {exc}")
     stamp = _dt.datetime.now().strftime("%Y-%m-%d %H:%M")
+    from .table import contradictions_markdown
+
+    bracket = ["## Dynamic results against the frictional minimum"] + contradictions_markdown(df).splitlines()
     try:
-        example = verdict.worked_example(results, by_name)
+        example = bracket + verdict.worked_example(results, by_name)
     except Exception as exc:  # noqa: BLE001 - the example is noted, never fatal
-        example = [f"Engineering verdict: the worked example could not be made ({type(exc).__name__}: {exc})."]
+        example = bracket + [f"Engineering verdict: the worked example could not be made ({type(exc).__name__}: {exc})."]
     try:
         example += worst_direction.section(results, by_name, figs)
     except Exception as exc:  # noqa: BLE001 - noted, never fatal

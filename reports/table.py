@@ -12,7 +12,10 @@ Columns (alpha values dimensionless, times in seconds):
   ``alpha`` frictional, ``alpha_lp`` associative, ``alpha_nlp``), ``ref_rtol``, ``ref_source``;
 * per method: ``lp_*``, ``nlp_*``, ``global_*`` (MILP), ``iter_*`` (iterative LP),
   ``dem_*``: ``status``, ``alpha``, ``time_s``, ``reason``;
-* ``fric_alpha``: the lowest verified frictional value found (NLP or MILP);
+* ``fric_alpha``: the lowest verified frictional value found (NLP, MILP, or in 2D step 2 from a
+  DEM collapse state, :mod:`reports.dem_starts`); ``fric_alpha_step2`` without the last;
+* ``dstart_alpha``, ``dstart_from``, ``dstart_tried``: step 2 from the engines' collapse states
+  where they collapsed below it (the adopted alpha, the engines it came from, every try);
 * errors relative to the reference: ``lp_err``, ``nlp_err``, ``dem_err``, and
   ``dem_vs_la`` (DEM against the frictional limit analysis);
 * ``lmgc_*``: the LMGC90 run (rigid contacts), as ``dem_*``, with ``lmgc_err``,
@@ -21,7 +24,8 @@ Columns (alpha values dimensionless, times in seconds):
   or rattled in place);
 * ``cone_*``: the limit analysis of a 3D scene with 24 inscribed sliding faces (a
   near-circular friction cone, as in both dynamic engines): ``cone_status``,
-  ``cone_lp_alpha``, ``cone_alpha`` (frictional, NLP), ``cone_time_s``, and
+  ``cone_lp_alpha``, ``cone_alpha`` (frictional: NLP, or step 2 from a DEM collapse state;
+  ``cone_alpha_step2`` without it), ``cone_time_s``, and
   ``dem_vs_cone``, ``lmgc_vs_cone``; empty in 2D, where two faces are exact;
 * ``mech_similarity``: the cosine between the limit-analysis mechanism and the
   DEM motion, compared through the velocities of every block vertex
@@ -97,8 +101,11 @@ def dem_model_text(dem: dict) -> str:
     return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."
 
 
-def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None, cone: dict | None = None) -> dict:
+def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None, cone: dict | None = None,
+        dem_start: list | None = None) -> dict:
     from limit.model.scene import load_scene
+
+    from .dem_starts import adopted_alpha
 
     data = json.loads(Path(path).read_text())
     meta = data.get("meta") or {}
@@ -125,7 +132,14 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
              iter_status=it.get("status"), iter_alpha=it.get("alpha"))
     fric = [a for a in (nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None,
                         g.get("alpha") if g.get("status") in ("optimal", "time_limit") else None) if a is not None]
-    r["fric_alpha"] = min(fric) if fric else None
+    r["fric_alpha"] = r["fric_alpha_step2"] = min(fric) if fric else None
+    ds = adopted_alpha(dem_start)
+    r["dstart_alpha"] = ds
+    r["dstart_from"] = ", ".join(e["engine"] for e in dem_start or [] if e.get("adopted"))
+    r["dstart_tried"] = ", ".join(f"{e['engine']}: {e['alpha']:.5g}" if e.get("alpha") is not None else
+                                  f"{e['engine']}: {e.get('reason', '')}" for e in dem_start or [])
+    if ds is not None and data.get("dim") != 3:
+        r["fric_alpha"] = min(ds, r["fric_alpha"]) if r["fric_alpha"] is not None else ds
     dem = dem or {}
     r.update(dem_status=dem.get("status"), dem_alpha=dem.get("alpha"), dem_time_s=dem.get("time_s"),
              dem_reason=dem.get("reason", dem.get("note", "")), dem_uncertainty=dem.get("alpha_uncertainty"),
@@ -156,6 +170,9 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     r.update(cone_status=cn.get("status") or cl.get("status"), cone_lp_alpha=cl.get("alpha"),
              cone_alpha=cn.get("alpha") if cn.get("status") in ("optimal", "skipped") else None,
              cone_time_s=(cone or {}).get("stage_time_s"))
+    r["cone_alpha_step2"] = r["cone_alpha"]
+    if ds is not None and data.get("dim") == 3:
+        r["cone_alpha"] = min(ds, r["cone_alpha"]) if r["cone_alpha"] is not None else ds
     r["dem_vs_cone"] = _rel(r["dem_alpha"], r["cone_alpha"])
     r["lmgc_vs_cone"] = _rel(r["lmgc_alpha"], r["cone_alpha"])
     mech, kind = la_mechanism(la)
@@ -169,12 +186,16 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     return r
 
 
-def results_table(files, results: dict, with_dem: bool = True, with_lmgc: bool = False) -> pd.DataFrame:
+def results_table(files, results: dict, with_dem: bool = True, with_lmgc: bool = False,
+                  dem_start: dict | None = None) -> pd.DataFrame:
+    """One row per scene file from the stage ``results`` ({(scene, stage): result}) and the DEM
+    starts ({scene: entries}, :func:`reports.dem_starts.run`)."""
     rows = []
     for path in files:
         name = json.loads(Path(path).read_text()).get("name", Path(path).stem)
         rows.append(row(Path(path), results.get((name, "la")), results.get((name, "dem")) if with_dem else None,
-                        results.get((name, "lmgc")) if with_lmgc else None, results.get((name, "cone"))))
+                        results.get((name, "lmgc")) if with_lmgc else None, results.get((name, "cone")),
+                        (dem_start or {}).get(name)))
     return pd.DataFrame(rows)
 
 
@@ -201,10 +222,46 @@ ENGINE_COLUMNS = [
 ]
 
 
+def contradictions(df: pd.DataFrame, step2_only: bool = False) -> list[tuple]:
+    """(scene, engine, dynamic alpha, frictional alpha, relative gap) of every dynamic collapse below
+    the frictional limit analysis by more than :data:`reports.dem_starts.SLACK`: the 24-face cone's
+    in 3D, the paper model's in 2D. ``step2_only``: against step 2's own alpha (before the DEM
+    starts)."""
+    from .dem_starts import below
+
+    out = []
+    for _, r in df.iterrows():
+        col = ("cone_alpha" if r.get("dim") == 3 else "fric_alpha") + ("_step2" if step2_only else "")
+        fric = r.get(col)
+        fric = None if fric is None or (isinstance(fric, float) and not np.isfinite(fric)) else float(fric)
+        for key, engine in (("dem", "YADE"), ("lmgc", "LMGC90")):
+            a = r.get(f"{key}_alpha")
+            a = None if a is None or (isinstance(a, float) and not np.isfinite(a)) else float(a)
+            if r.get(f"{key}_status") == "collapsed" and below(a, fric):
+                out.append((r["name"], engine, a, fric, a / fric - 1.0))
+    return out
+
+
+def contradictions_markdown(df: pd.DataFrame) -> str:
+    """A few lines: how many dynamic results lie below the frictional limit analysis, before and
+    after the DEM starts, and which."""
+    before, after = contradictions(df, step2_only=True), contradictions(df)
+    n = int(sum((df.get(f"{k}_status") == "collapsed").sum() for k in ("dem", "lmgc") if f"{k}_status" in df))
+    lines = [f"Dynamic collapses below the frictional limit analysis (by more than 1 %): {len(after)} of {n} "
+             f"collapsed engine results ({len(before)} against step 2 before the DEM starts)."]
+    adopted = df[df["dstart_from"].astype(bool)] if "dstart_from" in df else df.iloc[0:0]
+    for _, r in adopted.iterrows():
+        lines.append(f"- {r['name']}: step 2 from the {r['dstart_from']} collapse state verified {r['dstart_alpha']:.5g}.")
+    for name, engine, a, fric, gap in after:
+        lines.append(f"- {name}: {engine} {a:.5g} against {fric:.5g} ({gap:+.1%})")
+    return "\n".join(lines) + "\n"
+
+
 def engines_markdown(df: pd.DataFrame) -> str:
     """The catalog as one markdown table: the limit analysis (the paper's friction model,
     and the near-circular cone in 3D) against YADE and LMGC90, with their wall times (s).
-    A stage without a number shows its status (dead-load collapse, skipped, failed)."""
+    A stage without a number shows its status (dead-load collapse, skipped, failed). The
+    contradiction count (:func:`contradictions_markdown`) comes first."""
     def cell(r, col, fmt):
         v = r.get(col)
         if v is None or (isinstance(v, float) and not np.isfinite(v)):
@@ -216,7 +273,7 @@ def engines_markdown(df: pd.DataFrame) -> str:
         return fmt.format(v)
 
     head = "| " + " | ".join(h for _, h, _ in ENGINE_COLUMNS) + " |"
-    lines = [head, "|" + " --- |" * len(ENGINE_COLUMNS)]
+    lines = [contradictions_markdown(df), head, "|" + " --- |" * len(ENGINE_COLUMNS)]
     for _, r in df.iterrows():
         lines.append("| " + " | ".join(cell(r, c, f) for c, _, f in ENGINE_COLUMNS) + " |")
     return "\n".join(lines) + "\n"

@@ -218,9 +218,11 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("validate: interrupted; finished stages are cached, rerun to resume", file=sys.stderr)
         return 130
-    from . import render, table
+    from . import dem_starts, render, table
 
-    df = table.results_table(files, done, with_dem=not args.no_dem, with_lmgc=not (args.no_lmgc or args.no_dem))
+    starts = {} if args.no_dem else dem_starts.run(files, done, progress=not args.no_progress)
+    df = table.results_table(files, done, with_dem=not args.no_dem, with_lmgc=not (args.no_lmgc or args.no_dem),
+                             dem_start=starts)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     table.write(df, out)

@@ -1,0 +1,70 @@
+"""The validation run's DEM starts (reports.dem_starts) and the contradiction count of the report
+(reports.table.contradictions), on two blocks side by side (scenes.builders.side_by_side, mu = 0.5),
+whose frictional collapse is 23/61 in closed form (derived in the builder's docstring; the
+mechanism's displacement is derived in tests/test_dem_start.py)."""
+import json
+
+import pandas as pd
+import pytest
+
+from limit.analysis import analyse, public
+from limit.model.scene import load_scene
+from reports import dem_starts, table
+from scenes import builders as B
+
+CLOSED = B.side_by_side_alpha(mu=0.5)
+MECHANISM = {"A": [0.5, 0.1, -1.0], "B": [0.6, 0.0, 0.0]}
+
+
+@pytest.fixture(scope="module")
+def scene_file(tmp_path_factory):
+    d = B.side_by_side(dim=2, mu=0.5, name="sbs")
+    path = tmp_path_factory.mktemp("dstart") / "sbs.json"
+    path.write_text(json.dumps(d))
+    return path
+
+
+@pytest.fixture(scope="module")
+def la(scene_file):
+    return json.loads(json.dumps(public(analyse(load_scene(scene_file), method="nlp")), default=float))
+
+
+def _dem(alpha):
+    return {"status": "collapsed", "alpha": alpha, "displacement": MECHANISM}
+
+
+def test_an_engine_below_a_step2_that_stopped_high_is_resolved_by_its_state(scene_file, la):
+    """Step 2's alpha is set to 0.41 (as if it had stopped above the minimum); YADE collapses at
+    0.375: below it by 8.5 %. From YADE's state step 2 verifies 23/61 = 0.37705, which becomes the
+    frictional alpha; YADE is then 0.5 % below it, inside the 1 % slack: the count goes from 1 to 0."""
+    high = json.loads(json.dumps(la))
+    high["nlp"]["alpha"] = 0.41
+    results = {("sbs", "la"): high, ("sbs", "dem"): _dem(0.375)}
+    starts = dem_starts.run([scene_file], results, progress=False)
+    (entry,) = starts["sbs"]
+    assert entry["adopted"] is True and entry["alpha"] == pytest.approx(CLOSED, rel=1e-9)
+    assert entry["engine"] == "yade" and entry["fric_before"] == 0.41
+    df = table.results_table([scene_file], results, with_dem=True, dem_start=starts)
+    assert df["fric_alpha"].iloc[0] == pytest.approx(CLOSED) and df["fric_alpha_step2"].iloc[0] == 0.41
+    assert len(table.contradictions(df, step2_only=True)) == 1 and table.contradictions(df) == []
+    text = table.contradictions_markdown(df)
+    assert "0 of 1 collapsed engine results (1 against step 2 before the DEM starts)" in text
+    assert "sbs: step 2 from the yade collapse state verified 0.37705" in text
+
+
+def test_an_engine_below_the_true_minimum_stays_a_counted_contradiction(scene_file, la):
+    """YADE at 0.30, 20 % below the closed form that step 2 found: its state verifies 23/61 again,
+    nothing lower, so the contradiction stays and is listed with its gap."""
+    results = {("sbs", "la"): la, ("sbs", "dem"): _dem(0.30)}
+    starts = dem_starts.run([scene_file], results, progress=False)
+    assert starts["sbs"][0]["adopted"] is False
+    df = table.results_table([scene_file], results, with_dem=True, dem_start=starts)
+    (c,) = table.contradictions(df)
+    assert c[:2] == ("sbs", "YADE") and c[4] == pytest.approx(0.30 / CLOSED - 1)
+
+
+def test_no_start_where_the_engines_are_inside_the_bracket(scene_file, la):
+    results = {("sbs", "la"): la, ("sbs", "dem"): _dem(0.38), ("sbs", "lmgc"): {"status": "stable", "alpha": None}}
+    assert dem_starts.run([scene_file], results, progress=False) == {}
+    df = table.results_table([scene_file], results, with_dem=True, with_lmgc=True, dem_start={})
+    assert table.contradictions(df) == [] and isinstance(df, pd.DataFrame)
