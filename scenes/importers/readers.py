@@ -15,6 +15,7 @@ vertices ``(n, d)`` in the file's units, its faces as lists of vertex indices
   scene, one block each (an outline not marked closed is closed from its last
   point to its first, with a warning); POLYFACE meshes and 3DFACEs make a 3D scene, grouped
   into blocks by shared corners. The entity's layer becomes the block's tag.
+* compas JSON (:mod:`scenes.importers.compas_json`): one block per compas mesh in the file.
 """
 from __future__ import annotations
 
@@ -46,9 +47,9 @@ def expand_paths(paths) -> list[Path]:
     out = []
     for p in map(Path, paths):
         if p.is_dir():
-            found = sorted(q for q in p.iterdir() if q.suffix.lower() in MESH_SUFFIXES | {".obj", ".dxf"})
+            found = sorted(q for q in p.iterdir() if q.suffix.lower() in MESH_SUFFIXES | {".obj", ".dxf", ".json"})
             if not found:
-                raise SceneError(f"{p}: no OBJ, STL, PLY or DXF file in this folder")
+                raise SceneError(f"{p}: no OBJ, STL, PLY, DXF or compas JSON file in this folder")
             out.extend(found)
         elif p.is_file():
             out.append(p)
@@ -68,6 +69,10 @@ def read_files(paths) -> tuple[int, list[RawBlock]]:
             dim, got = 3, read_obj(f)
         elif suffix == ".dxf":
             dim, got = read_dxf(f)
+        elif suffix == ".json":
+            from .compas_json import read_compas_json
+
+            dim, got = 3, read_compas_json(f)
         else:
             dim, got = 3, read_mesh(f, split=one_mesh_file)
         dims.add(dim)
