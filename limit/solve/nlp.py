@@ -38,7 +38,9 @@ from limit.solve.nlp_problem import NLPProblem
 from limit.model.yield_domain import SLIDE, TWIST
 
 SLSQP_MAX_VARS = 250
-TOL_COMP = 1e-7     # complementarity lam . s, in units of alpha (relative to max(1, alpha))
+#: the successive LP stops raising its penalty once lam . s <= this x max(1, alpha): ten times
+#: below the check's limit (verify.TOL_COMP), so that its point passes the check
+SLA_COMP_TARGET = 1e-7
 
 
 # ---------------------------------------------------------------------------
@@ -141,7 +143,7 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
             curv = rho * float(d[N.sl] @ ds)
             t = 1.0 if curv <= 0 else min(1.0, -slope / (2.0 * curv))
             z = z + t * d
-        if N.comp(z) <= TOL_COMP * max(1.0, z[N.ia]) or rho >= rho_max:
+        if N.comp(z) <= SLA_COMP_TARGET * max(1.0, z[N.ia]) or rho >= rho_max:
             break
         rho *= 10.0
     return z, f"SLA: {iters} LPs, final penalty {rho:g}"
