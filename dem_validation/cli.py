@@ -37,6 +37,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--set", action="append", default=[], metavar="KNOB=VALUE",
                    help="any other knob (repeatable): " + ", ".join(k for k in P.KNOBS if k != "eps"))
     r.add_argument("--quiet", action="store_true", help="no progress lines")
+    r.add_argument("--no-bracket", action="store_true",
+                   help="do not check the collapse alpha against the limit analysis (by default a result below "
+                        "step 2's frictional alpha or above the LP's is marked suspect: dem.bracket)")
     return p
 
 
@@ -110,6 +113,11 @@ def summary(result: dict) -> str:
         lines.append(f"DEM failed: {dem.get('reason')}")
     else:
         lines.append(f"DEM {dem['status']}: {dem.get('note', '')}".rstrip())
+    br = dem.get("bracket")
+    if br and br.get("verdict") == "suspect":
+        lines.append(f"SUSPECT ({br['side']}): {br['reason']}")
+    elif br and br.get("verdict") == "inside":
+        lines.append(f"inside the limit-analysis bracket: {br['reason']}")
     lines.append(f"time {dem.get('time_s', 0):.1f} s, {dem.get('steps', 0)} steps")
     return "\n".join(lines)
 
@@ -139,6 +147,16 @@ def cmd_run(args) -> int:
     else:
         dem = run_loaded(scene, p, timeout_s=args.timeout, progress=progress, yade=args.yade, interfaces=I,
                          contact=args.contact)
+    if not args.no_bracket and dem.get("status") == "collapsed" and dem.get("alpha") is not None:
+        from .bracket import judge, limit_analysis
+
+        if not args.quiet:
+            print("checking the collapse against the limit analysis ...", file=sys.stderr)
+        try:
+            dem["bracket"] = judge(dem, limit_analysis(scene))
+        except Exception as exc:  # noqa: BLE001 - the DEM result is kept whatever the check does
+            dem["bracket"] = {"verdict": "unchecked", "reason": f"the limit analysis failed: {type(exc).__name__}: {exc}"}
+        dem["suspect"] = dem["bracket"]["verdict"] == "suspect"
     result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
               "n_interfaces": len(I), "dem": dem}
     if args.json:  # first: a fault in the summary must not lose the result

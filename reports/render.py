@@ -272,6 +272,11 @@ HEAD = ["scene", "dim", "blocks", "joints", "reference", "published", "LP", "NLP
         "DEM vs LA", "LP s", "NLP s", "DEM s", "similarity", "LMGC90", "LMGC90 vs LA", "LMGC90 s"]
 
 
+def _flag(text: str, bracket) -> str:
+    """A DEM cell with its bracket flag (dem_validation.bracket): '0.182 (suspect low)'."""
+    return f"{text} ({bracket})" if isinstance(bracket, str) and bracket else text
+
+
 def _cells(r):
     def st(alpha, status):
         if status in FAIL:
@@ -286,10 +291,11 @@ def _cells(r):
             _num(r["n_interfaces"], "d") if _finite(r["n_interfaces"]) else "–", _num(r["ref_alpha"]),
             _num(r.get("pub_alpha")),
             st(r["lp_alpha"], r["lp_status"]), st(r["nlp_alpha"], r["nlp_status"]),
-            st(r["global_alpha"], r["global_status"]), st(r["dem_alpha"], r["dem_status"]),
+            st(r["global_alpha"], r["global_status"]), _flag(st(r["dem_alpha"], r["dem_status"]), r.get("dem_bracket")),
             _pct(r["lp_err"]), _pct(r["nlp_err"]), _pct(r["dem_vs_la"]), _num(r["lp_time_s"], ".2f"),
             _num(r["nlp_time_s"], ".2f"), _num(r["dem_time_s"], ".0f"), _num(r["mech_similarity"], ".2f"),
-            st(r.get("lmgc_alpha"), r.get("lmgc_status")) if isinstance(r.get("lmgc_status"), str) else "–",
+            _flag(st(r.get("lmgc_alpha"), r.get("lmgc_status")), r.get("lmgc_bracket"))
+            if isinstance(r.get("lmgc_status"), str) else "–",
             _pct(r.get("lmgc_vs_la")), _num(r.get("lmgc_time_s"), ".0f")]
 
 

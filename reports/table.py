@@ -27,6 +27,9 @@ Columns (alpha values dimensionless, times in seconds):
   ``cone_lp_alpha``, ``cone_alpha`` (frictional: NLP, or step 2 from a DEM collapse state;
   ``cone_alpha_step2`` without it), ``cone_time_s``, and
   ``dem_vs_cone``, ``lmgc_vs_cone``; empty in 2D, where two faces are exact;
+* ``dem_bracket``, ``lmgc_bracket``: "suspect low" / "suspect high" where the engine's alpha lies
+  below the frictional limit analysis or above the LP (the cone's in 3D) by more than 1 %
+  (:mod:`dem_validation.bracket`), else empty;
 * ``mech_similarity``: the cosine between the limit-analysis mechanism and the
   DEM motion, compared through the velocities of every block vertex
   (scale-free: 1 = the same motion, 0 = unrelated).
@@ -173,6 +176,13 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     r["cone_alpha_step2"] = r["cone_alpha"]
     if ds is not None and data.get("dim") == 3:
         r["cone_alpha"] = min(ds, r["cone_alpha"]) if r["cone_alpha"] is not None else ds
+    from dem_validation.bracket import judge, label
+
+    three = data.get("dim") == 3
+    la_br = {"fric_alpha": r["cone_alpha"] if three else r["fric_alpha"],
+             "lp_alpha": r["cone_lp_alpha"] if three else r["lp_alpha"]}
+    r["dem_bracket"] = label(judge(dem, la_br))
+    r["lmgc_bracket"] = label(judge(lm, la_br))
     r["dem_vs_cone"] = _rel(r["dem_alpha"], r["cone_alpha"])
     r["lmgc_vs_cone"] = _rel(r["lmgc_alpha"], r["cone_alpha"])
     mech, kind = la_mechanism(la)
@@ -270,7 +280,9 @@ def engines_markdown(df: pd.DataFrame) -> str:
             if st and r.get(f"{st}_dead"):
                 return "dead-load collapse"
             return str(r.get(f"{st}_status") or "-") if st else "-"
-        return fmt.format(v)
+        text = fmt.format(v)
+        flag = r.get({"dem_alpha": "dem_bracket", "lmgc_alpha": "lmgc_bracket"}.get(col, ""))
+        return f"{text} ({flag})" if isinstance(flag, str) and flag else text
 
     head = "| " + " | ".join(h for _, h, _ in ENGINE_COLUMNS) + " |"
     lines = [contradictions_markdown(df), head, "|" + " --- |" * len(ENGINE_COLUMNS)]

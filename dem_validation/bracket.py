@@ -1,0 +1,72 @@
+"""The limit-analysis bracket as a self-check of a dynamic result.
+
+For rigid blocks on frictional, no-tension joints, no collapse can happen below the frictional
+minimum, and the associative LP is an upper bound of every frictional collapse (Baggio &
+Trovalusci, section 3; Radenkovic's theorems). Step 2's verified alpha is a frictional collapse
+state, so the minimum is at or below it: a dynamic alpha below step 2's is either a lower state
+that step 2 missed (``limit solve --dem-start`` tries it) or something the engine adds (time
+step, contact compliance, creep). A dynamic alpha above the LP has no such excuse for rigid
+blocks. Either is marked ``suspect``, with the reason, beyond a relative :data:`SLACK`. The
+limit analysis uses the engines' friction: a near-circular cone (24 inscribed sliding faces) in
+3D, the exact two faces in 2D.
+"""
+from __future__ import annotations
+
+#: relative tolerance of the bracket (the engines' own uncertainty is about 0.2-0.5 %)
+SLACK = 0.01
+#: sliding faces of the 3D limit analysis the engines are compared with (inscribed in the cone)
+CONE_FACES = 24
+
+
+def limit_analysis(scene) -> dict:
+    """{"fric_alpha", "lp_alpha", "fric_status", "model"} of a scene, with the engines' friction
+    (step 2 without its MILP and iterative-LP checks, and without a code check)."""
+    from dataclasses import replace
+
+    from limit.analysis import analyse
+    from limit.model.assemble import Options
+
+    model = Options(n_slide=CONE_FACES, slide_fit="inscribed") if scene.dim == 3 else Options()
+    res = analyse(replace(scene, demand=None), options=model,
+                  nlp_options={"global_check": False, "iterative": False, "arbitrary": False})
+    lp, nlp = res["lp"], res.get("nlp") or {}
+    fric = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None
+    return {"fric_alpha": fric, "lp_alpha": lp.get("alpha") if lp.get("status") == "optimal" else None,
+            "fric_status": nlp.get("status"),
+            "model": f"{CONE_FACES} inscribed sliding faces" if scene.dim == 3 else "2D, two sliding faces"}
+
+
+def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
+    """The bracket entry of a DEM result ``dem`` against ``la`` ({"fric_alpha", "lp_alpha", ...}):
+    {"verdict": "inside" | "suspect" | "unchecked", "side": "low" | "high" | None, "reason",
+    "fric_alpha", "lp_alpha", "slack"}."""
+    fric, lp = la.get("fric_alpha"), la.get("lp_alpha")
+    out = {"fric_alpha": fric, "lp_alpha": lp, "slack": slack, "side": None}
+    if la.get("model"):
+        out["model"] = la["model"]
+    a = dem.get("alpha")
+    if dem.get("status") != "collapsed" or a is None:
+        return {**out, "verdict": "unchecked", "reason": f"no collapse alpha (status {dem.get('status')})"}
+    if fric is not None and a < fric * (1.0 - slack):
+        return {**out, "verdict": "suspect", "side": "low",
+                "reason": (f"{a:.5g} is {100 * (1 - a / fric):.1f} % below step 2's frictional collapse at {fric:.5g}: "
+                           "rigid blocks cannot collapse below the frictional minimum, so either step 2 missed a "
+                           "lower state (limit solve --dem-start tries this run's state) or the engine adds "
+                           "something rigid blocks do not have (time step, contact compliance, creep)")}
+    if lp is not None and a > lp * (1.0 + slack):
+        return {**out, "verdict": "suspect", "side": "high",
+                "reason": (f"{a:.5g} is {100 * (a / lp - 1):.1f} % above the associative LP's upper bound {lp:.5g}: "
+                           "no rigid-block collapse lies there (a locked or too stiff contact model)")}
+    if fric is None:
+        return {**out, "verdict": "inside" if lp is not None else "unchecked",
+                "reason": ("at or below the LP's upper bound; the lower side is not checked: step 2 gave no "
+                           "verified alpha") if lp is not None else "the limit analysis gave no alpha"}
+    return {**out, "verdict": "inside", "reason": f"within [{fric:.5g}, {lp:.5g}] (slack {slack:.0%})"
+            if lp is not None else f"at or above step 2's {fric:.5g}"}
+
+
+def label(entry: dict | None) -> str:
+    """'' for an inside or unchecked result, else 'suspect low' / 'suspect high'."""
+    if not entry or entry.get("verdict") != "suspect":
+        return ""
+    return f"suspect {entry.get('side')}"

@@ -1,0 +1,83 @@
+"""The limit-analysis bracket as the self-check of a dynamic result (dem_validation/bracket.py),
+in the DEM command's result file and in the validation report's tables."""
+import json
+import math
+
+import pandas as pd
+import pytest
+
+import dem_validation.cli
+from dem_validation.bracket import judge, label, limit_analysis
+from limit.model.scene import load_scene
+from reports import table
+from scenes import builders as B
+
+LA = {"fric_alpha": 0.3, "lp_alpha": 0.4}
+
+
+@pytest.mark.parametrize("alpha,verdict,side", [
+    (0.2955, "suspect", "low"),  # 1.5 % below step 2's 0.3: beyond the 1 % slack
+    (0.2975, "inside", None),    # within the 1 % slack below step 2
+    (0.35, "inside", None),
+    (0.4035, "inside", None),    # within the 1 % slack above the LP
+    (0.2, "suspect", "low"),
+    (0.41, "suspect", "high"),
+])
+def test_judge_places_a_collapse_in_the_bracket(alpha, verdict, side):
+    b = judge({"status": "collapsed", "alpha": alpha}, LA)
+    assert (b["verdict"], b["side"]) == (verdict, side)
+    assert label(b) == ("" if verdict == "inside" else f"suspect {side}")
+    if side == "low":
+        assert "below step 2's frictional collapse at 0.3" in b["reason"] and "--dem-start" in b["reason"]
+    if side == "high":
+        assert "above the associative LP's upper bound 0.4" in b["reason"]
+
+
+def test_judge_without_a_collapse_or_without_step2():
+    assert judge({"status": "stable", "alpha": None}, LA)["verdict"] == "unchecked"
+    b = judge({"status": "collapsed", "alpha": 0.1}, {"fric_alpha": None, "lp_alpha": 0.4})
+    assert b["verdict"] == "inside" and "lower side is not checked" in b["reason"]
+    assert judge({"status": "collapsed", "alpha": 0.5}, {"fric_alpha": None, "lp_alpha": 0.4})["side"] == "high"
+
+
+def test_limit_analysis_of_the_bracket_uses_the_cone_in_3d():
+    """A squat block (1 x 1 x 0.5, mu 0.4) loaded at 45 degrees in plan slides at mu = 0.4 on the
+    Coulomb cone; the paper's 4 circumscribed faces give 0.4 sqrt(2) = 0.566 there, the 24
+    inscribed ones 0.4 cos(pi/24) = 0.3966 at worst (in the middle of a face) and 0.4 at a corner."""
+    d = B.single_block(dim=3, b=1.0, h=0.5, t=1.0, mu=0.4)
+    d["interfaces"] = {"sliding_faces": 4}
+    c = 0.5 ** 0.5
+    d["loads"]["live"] = [{"type": "body_force", "direction": [c, c, 0]}]  # unit length: a body force is not normalised
+    la = limit_analysis(load_scene(d))
+    assert 0.4 * math.cos(math.pi / 24) - 1e-6 <= la["lp_alpha"] <= 0.4 + 1e-9
+    assert la["model"].startswith("24 inscribed")
+
+
+def test_the_dem_command_writes_the_bracket(tmp_path, write_scene, monkeypatch, capsys):
+    """The engine is replaced by a stand-in that collapses at 0.2 on a block that rocks at
+    b / h = 0.4 (step 2 skipped: rocking): suspect low, in the file and on the screen."""
+    import dem_validation.api
+
+    def fake(scene, p, **kw):
+        return {"status": "collapsed", "alpha": 0.2, "alpha_uncertainty": 0.001, "runs": [], "time_s": 1.0,
+                "displacement": {}, "extrapolation": {"method": "richardson"}}
+    monkeypatch.setattr(dem_validation.api, "run_loaded", fake)
+    scene = write_scene(B.single_block(dim=2, b=0.4, h=1.0, t=1.0, mu=0.8))
+    out = tmp_path / "dem.json"
+    assert dem_validation.cli.main(["run", str(scene), "--json", str(out), "--quiet"]) == 0
+    dem = json.loads(out.read_text())["dem"]
+    assert dem["suspect"] is True and dem["bracket"]["side"] == "low"
+    assert dem["bracket"]["fric_alpha"] == pytest.approx(0.4, rel=1e-6)
+    assert "SUSPECT (low): 0.2 is 50.0 % below" in capsys.readouterr().out
+    assert dem_validation.cli.main(["run", str(scene), "--json", str(out), "--quiet", "--no-bracket"]) == 0
+    assert "bracket" not in json.loads(out.read_text())["dem"]
+
+
+def test_the_engines_table_flags_a_suspect_result():
+    rows = [{"name": "w", "dim": 2, "n_free": 3, "lp_alpha": 0.30, "fric_alpha": 0.2755, "cone_alpha": None,
+             "cone_status": "skipped", "dem_alpha": 0.182, "dem_status": "collapsed", "dem_vs_la": -0.34,
+             "dem_bracket": "suspect low", "lmgc_alpha": 0.29, "lmgc_status": "collapsed", "lmgc_bracket": "",
+             "lmgc_vs_la": 0.05, "dstart_from": ""}]
+    text = table.engines_markdown(pd.DataFrame(rows))
+    assert "| 0.182 (suspect low) |" in text and "| 0.29 |" in text
+    assert "1 of 2 collapsed engine results" in text
