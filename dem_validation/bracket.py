@@ -8,14 +8,25 @@ that step 2 missed (``limit solve --dem-start`` tries it) or something the engin
 step, contact compliance, creep). A dynamic alpha above the LP has no such excuse for rigid
 blocks. Either is marked ``suspect``, with the reason, beyond a relative :data:`SLACK`. The
 limit analysis uses the engines' friction: a near-circular cone (24 inscribed sliding faces) in
-3D, the exact two faces in 2D.
+3D, the exact two faces in 2D. The inscribed polygon is up to 1 - cos(pi/24) = 0.86 % inside the
+cone, so in 3D the LP's bound on the cone is the polygon's LP divided by cos(pi/24)
+(:func:`cone_lp_factor`).
 """
 from __future__ import annotations
+
+import math
 
 #: relative tolerance of the bracket (the engines' own uncertainty is about 0.2-0.5 %)
 SLACK = 0.01
 #: sliding faces of the 3D limit analysis the engines are compared with (inscribed in the cone)
 CONE_FACES = 24
+
+
+def cone_lp_factor(dim: int) -> float:
+    """The factor from the inscribed polygon's LP alpha to an upper bound on the circular cone's:
+    scaling every sliding capacity by 1/cos(pi/n) puts the polygon around the cone, and the LP's
+    alpha scales at most as much (1 in 2D, where the two faces are exact)."""
+    return 1.0 / math.cos(math.pi / CONE_FACES) if dim == 3 else 1.0
 
 
 def limit_analysis(scene) -> dict:
@@ -32,16 +43,18 @@ def limit_analysis(scene) -> dict:
     lp, nlp = res["lp"], res.get("nlp") or {}
     fric = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None
     return {"fric_alpha": fric, "lp_alpha": lp.get("alpha") if lp.get("status") == "optimal" else None,
-            "fric_status": nlp.get("status"),
+            "fric_status": nlp.get("status"), "lp_factor": cone_lp_factor(scene.dim),
             "model": f"{CONE_FACES} inscribed sliding faces" if scene.dim == 3 else "2D, two sliding faces"}
 
 
 def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
-    """The bracket entry of a DEM result ``dem`` against ``la`` ({"fric_alpha", "lp_alpha", ...}):
+    """The bracket entry of a DEM result ``dem`` against ``la`` ({"fric_alpha", "lp_alpha",
+    "lp_factor" (default 1): the LP bound is lp_alpha x lp_factor}):
     {"verdict": "inside" | "suspect" | "unchecked", "side": "low" | "high" | None, "reason",
     "fric_alpha", "lp_alpha", "slack"}."""
     fric, lp = la.get("fric_alpha"), la.get("lp_alpha")
     out = {"fric_alpha": fric, "lp_alpha": lp, "slack": slack, "side": None}
+    lp = None if lp is None else lp * la.get("lp_factor", 1.0)  # the bound on the engines' cone
     if la.get("model"):
         out["model"] = la["model"]
     a = dem.get("alpha")

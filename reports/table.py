@@ -176,11 +176,11 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     r["cone_alpha_step2"] = r["cone_alpha"]
     if ds is not None and data.get("dim") == 3:
         r["cone_alpha"] = min(ds, r["cone_alpha"]) if r["cone_alpha"] is not None else ds
-    from dem_validation.bracket import judge, label
+    from dem_validation.bracket import cone_lp_factor, judge, label
 
     three = data.get("dim") == 3
     la_br = {"fric_alpha": r["cone_alpha"] if three else r["fric_alpha"],
-             "lp_alpha": r["cone_lp_alpha"] if three else r["lp_alpha"]}
+             "lp_alpha": r["cone_lp_alpha"] if three else r["lp_alpha"], "lp_factor": cone_lp_factor(3 if three else 2)}
     r["dem_bracket"] = label(judge(dem, la_br))
     r["lmgc_bracket"] = label(judge(lm, la_br))
     r["dem_vs_cone"] = _rel(r["dem_alpha"], r["cone_alpha"])

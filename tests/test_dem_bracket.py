@@ -33,6 +33,18 @@ def test_judge_places_a_collapse_in_the_bracket(alpha, verdict, side):
         assert "above the associative LP's upper bound 0.4" in b["reason"]
 
 
+def test_in_3d_the_lp_bound_is_widened_to_the_circular_cone():
+    """A block sliding at mu = 0.4: the 24 inscribed faces give 0.4 cos(pi/24) = 0.39658 as the LP
+    in the middle of a face; an engine on the circular cone collapses at 0.4 (+0.25 %: 0.401), which
+    is 1.1 % above 0.39658 but inside once the bound is 0.39658 / cos(pi/24) = 0.4."""
+    from dem_validation.bracket import cone_lp_factor
+
+    la = {"fric_alpha": 0.39658, "lp_alpha": 0.39658}
+    assert judge({"status": "collapsed", "alpha": 0.401}, la)["side"] == "high"
+    assert judge({"status": "collapsed", "alpha": 0.401}, {**la, "lp_factor": cone_lp_factor(3)})["verdict"] == "inside"
+    assert cone_lp_factor(2) == 1.0 and cone_lp_factor(3) == pytest.approx(1 / math.cos(math.pi / 24))
+
+
 def test_judge_without_a_collapse_or_without_step2():
     assert judge({"status": "stable", "alpha": None}, LA)["verdict"] == "unchecked"
     b = judge({"status": "collapsed", "alpha": 0.1}, {"fric_alpha": None, "lp_alpha": 0.4})
