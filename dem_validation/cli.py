@@ -147,20 +147,23 @@ def cmd_run(args) -> int:
     else:
         dem = run_loaded(scene, p, timeout_s=args.timeout, progress=progress, yade=args.yade, interfaces=I,
                          contact=args.contact)
+    result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
+              "n_interfaces": len(I), "dem": dem}
+    if args.json:  # first: neither the bracket's limit analysis nor the summary may lose the run
+        jsonio.write_json(args.json, result)
     if not args.no_bracket and dem.get("status") == "collapsed" and dem.get("alpha") is not None:
         from .bracket import judge, limit_analysis
 
         if not args.quiet:
-            print("checking the collapse against the limit analysis ...", file=sys.stderr)
+            print("checking the collapse against the limit analysis (LP and step 2; --no-bracket skips it) ...",
+                  file=sys.stderr)
         try:
             dem["bracket"] = judge(dem, limit_analysis(scene))
         except Exception as exc:  # noqa: BLE001 - the DEM result is kept whatever the check does
             dem["bracket"] = {"verdict": "unchecked", "reason": f"the limit analysis failed: {type(exc).__name__}: {exc}"}
         dem["suspect"] = dem["bracket"]["verdict"] == "suspect"
-    result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
-              "n_interfaces": len(I), "dem": dem}
-    if args.json:  # first: a fault in the summary must not lose the result
-        jsonio.write_json(args.json, result)
+        if args.json:
+            jsonio.write_json(args.json, result)
     print(summary(result))
     return 1 if dem["status"] == "failed" else 0
 
