@@ -37,40 +37,8 @@ When the associative LP is unbounded (sliding needs dilatancy, e.g. a block
 wedged between two fixed surfaces), the first N* comes from an equilibrium of
 the dead load alone (alpha = 0).
 
-Measured (running-bond walls, mu 0.9, bench/step2_large_bench.py, 2 cores): 2D 1,008
-blocks, three starts, 0.341463 verified by all three in 9.6 s (median of 3; 41.8 s before
-the loose early LPs :data:`LP_TOL_FAR`, the first-passing snap :data:`SNAP_FIRST` and
-Clarabel for the snap :data:`SNAP_BACKENDS`). 2D 3,052 blocks: 0.337984 verified by both
-starts (one per core, :data:`ONE_ROUND_MIN_FREE`) in 42 s (52 s before :data:`WARM_START_DIMS`; all three in 89 s before that; before HiGHS
-was spared the snaps Clarabel proved infeasible, the 0.5 mu start had not verified after 11
-minutes). 2D 10,050 blocks: 0.335865 verified by both starts in 533 s, the first after 356 s (524 s and one start measured
-the same day before each LP started from the last one's point, :data:`WARM_START_DIMS`, and
-the LPs near a collapse state were solved to 1e-7 in 2D, :data:`LP_TOL_NEAR`; before the plateau snap
-:data:`SNAP_PLATEAU` and :data:`OMEGA_LARGE`, no start verified within 600 s: 133 LPs of
-about 4.6 s). On a machine 2.5 times slower (2026-11-26: 20.6 s for the first LP, 8 s before),
-neither start verified within 600 s, and with the proximal LPs (:data:`PROX`) the 0.5 mu start
-verified 0.335865 at 457 s; on that machine with :data:`VERY_LARGE_MIN_FREE`'s snap thresholds and starts,
-both starts verified 0.335865 and the route took 441 s (the 0.5 mu start 353 s, 41 LPs; 0.4 mu
-419 s, 48 LPs; with the LP's start instead of 0.4 mu it ran to the 600 s budget). On the same
-machine (2026-11-27) with the faster interior point method of that day (each LP about 25 % faster):
-357 s, both starts verified 0.335865 (0.5 mu 339 s, 53 LPs; 0.4 mu 221 s, 34 LPs); the number of LPs
-of a start changes with rounding-level changes of the LPs (41 to 53 at 0.5 mu, 33 to 48 at 0.4 mu).
-With the snap's kinematics on rigid clusters (same machine, same day): 337 s, both verified 0.335865
-(0.5 mu 319 s, 53 LPs; 0.4 mu 218 s, 34 LPs); the 0.4 mu start alone with YADE on the other core
-(cProfile) 269 s against 304 s before, the same 41 LPs, its snaps 57 s against 76 s. With
-:data:`GRACE` as well, two runs: 279 and 296 s (0.4 mu verified 0.335865 at 207 and 218 s, 34 LPs;
-0.5 mu stopped at 260 and 277 s).
-There, 3D 3,024 blocks: both starts verified, best 0.526630 (0.5 mu, 323 s), worst 0.527754 (the
-LP's start, 87 LPs), 453 s; with the starts of :data:`START_FACTORS_ONE_ROUND_3D` and the snap's
-statics on the interior point method (:data:`SNAP_BACKENDS`), 281 s, best 0.525765 (0.25 mu, 52 LPs,
-236 s), worst 0.526630 (0.5 mu, 44 LPs, 272 s); 10,050 2D blocks 299 s (0.4 mu verified 0.335865 at
-218 s, 34 LPs, as before: the snaps were not its cost). The interior point LPs are now about 85 % of
-a start (3D 3,024 blocks: 28 iterations and 4.9 s per LP). 3D 1,017 blocks: 0.553388 best, 0.561118 worst,
-starts of 70, 38 and 28 s. 3D 3,024 blocks: best 0.525052 (the LP's start, about 200 s), worst 0.530657 (the 0.5 mu
-start, 112-130 s), both verified in 204 s (none in 600 s before the snap took Clarabel's
-AlmostSolved). ``make bench`` with :data:`GRACE` 0 and :data:`SNAP_TRUST_DIVERGED` (idle machine,
-2026-11-27): 10,050 2D blocks 258 s (the 0.4 mu start verified 0.335865; 16 s more for the step-1
-LP); 3D 3,024 blocks 260 s, both starts verified, best 0.525765 (7 s more for the step-1 LP).
+Measured times and alphas (running-bond walls, ``make bench``: bench/step2_large_bench.py) are in
+docs/performance.md, 'Step 2 at scale'.
 """
 from __future__ import annotations
 
