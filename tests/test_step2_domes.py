@@ -44,7 +44,7 @@ def test_coarse_polygon_lies_inside():
         assert (v @ d.T).max() <= c + 1e-12  # inside every fine face
 
 
-@pytest.mark.slow  # step 2 of a 37-block dome with 8 faces, then SLA runs with 24 (about 45 s)
+@pytest.mark.slow  # step 2 of a 37-block dome with 8 faces, then SLA runs with 24
 def test_dome_3x12_verifies_from_the_coarse_polygon():
     scene = _dome(meridians=12, rings=3)
     P = assemble(scene)
