@@ -263,7 +263,7 @@ def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
     entry["adopted"] = True
     part.update(_point_part(P, N, r["z"]))
     part.update(status="optimal", alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
-                verification=nlp.check(N, r["z"], lp_sol.alpha)[1],
+                verification=r["residuals"],
                 reason=(f"the {source} run's collapse state (flowing faces: multipliers above {r['tau']:g} of the "
                         f"largest, {r['n_flowing']}) gave a verified point below step 2's "
                         + (f"{own:.6g}" if own is not None else "failure")))

@@ -23,6 +23,10 @@ from __future__ import annotations
 import time
 import traceback
 
+#: CONE_FACES: sliding faces of the near-circular friction model of the ``cone`` stage
+#: (inscribed), the same model as the DEM command's bracket
+from dem_validation.bracket import CONE_FACES
+
 #: limits of the independent checks in the validation run (free blocks)
 GLOBAL_MAX_FREE = 12
 ITERATIVE_MAX_FREE = 80
@@ -48,8 +52,6 @@ WALL_FACTOR = 3.0
 #: stays for a user's larger scenes. ``validate --lmgc-all`` (and
 #: ``make bench``) runs it on every scene, and a default run shows such a cached result.
 LMGC_BUDGET_S = 250.0
-#: sliding faces of the near-circular friction model of the ``cone`` stage (inscribed)
-CONE_FACES = 24
 
 
 def la_options(scene_data: dict) -> dict:

@@ -108,6 +108,7 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
     the faces outside it, the LP's statics), within ``time_budget`` s, keeping the lowest verified
     point. Returns {"status": "optimal" | "failed", "alpha", "z" (scaled point of N, or None),
     "N", "tau" (the rung that gave it), "n_flowing", "how" ("piece LP" or "successive LP"),
+    "residuals" (its check's, when verified),
     "misfit", "tried": [{"tau", "how", "n_flowing", "alpha", "verified", "reason"}], "time_s",
     "reason"}. ``backend`` of the LPs (:mod:`limit.solve.lpsub`; None: "highs" up to 3,000
     unknowns, else "clarabel")."""
@@ -160,9 +161,9 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
     out["time_s"] = time.perf_counter() - t0
     if best is None:
         return {**out, "reason": f"no flowing set of the displacement gave a verified point ({len(out['tried'])} tried)"}
-    z, tau, n, how = best
+    z, tau, n, how, res = best
     return {**out, "status": "optimal", "alpha": float(z[N.ia]), "z": z, "tau": tau, "n_flowing": n, "how": how,
-            "reason": ""}
+            "residuals": res, "reason": ""}
 
 
 def _record(out, N, zp, note, alpha_ref, tau, how, n_flowing, best):
@@ -171,9 +172,9 @@ def _record(out, N, zp, note, alpha_ref, tau, how, n_flowing, best):
     if zp is None:
         entry["reason"] = note
     else:
-        ok, _, why = nlp.check(N, zp, alpha_ref)
+        ok, res, why = nlp.check(N, zp, alpha_ref)
         entry.update(alpha=float(zp[N.ia]), verified=bool(ok), reason=why or note)
         if ok and (best is None or zp[N.ia] < best[0][N.ia]):
-            best = (zp, tau, n_flowing, how)
+            best = (zp, tau, n_flowing, how, res)
     out["tried"].append(entry)
     return best
