@@ -9,7 +9,7 @@ from limit.cli import main
 from limit.geom.interfaces import find_interfaces
 from limit.model.scene import load_scene
 
-pytest.importorskip("trimesh")
+import trimesh  # noqa: E402,F401  (pinned: a missing reader is a failure, not a skip)
 
 # a hexahedron's corners in OBJ order and its six quads, outward
 _HEX_FACES = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
