@@ -255,12 +255,12 @@ def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monke
 
 
 def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(monkeypatch):
-    """The settings of very large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first,
+    """The settings of very large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first, "least-slack" last,
     START_FACTORS_LARGE; from VERY_LARGE_MIN_FREE free blocks on) forced onto a small wall
     (:func:`_forced_on_a_small_wall`): every snap asks for the large walls' rules, and the starts
     are those at 0.5 mu and 0.4 mu."""
     seen, big = _forced_on_a_small_wall(monkeypatch, "VERY_LARGE_MIN_FREE", nlp, "finish", "rules")
-    assert seen and all(r == ("ratio", "support") for r in seen)
+    assert seen and all(r == ("ratio", "support", "least-slack") for r in seen)
     assert [r["start"] for r in big["starts"]] == ["lp-mu*0.5", "lp-mu*0.4"]
 
 

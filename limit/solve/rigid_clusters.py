@@ -175,3 +175,27 @@ def kinematics(P, Gh: sp.csr_matrix, flows: np.ndarray, backend: str = "clarabel
         return Kinematics(None, None, res.status, res.no_point)
     # an interior point's -1e-13 clipped
     return Kinematics(T @ res.z[:n_w], np.maximum(res.z[n_w:], 0.0), res.status, False)
+
+
+def least_slack_flow(P, Gh: sp.csr_matrix, w: np.ndarray, backend: str = "clarabel",
+                     time_limit: float | None = None) -> Kinematics:
+    """The mechanism (a :class:`Kinematics` with ``lam`` over every face, (n_faces,)) that does the least work on the
+    weights ``w`` (n_faces,) >= 0, over every face::
+
+        min w . lamh   s.t.   Eh.T vh - Gh lamh = 0,   fLh . vh = 1,   lamh >= 0
+
+    With ``w`` the statics' slacks at an iterate (s_j = limit_j - Y_j x >= 0), the optimum is the
+    mechanism closest to complementary with that statics: it flows where the faces are at their
+    limit. One LP on every block dof (no clusters)."""
+    n_dof, n_f = P.Eh.shape[0], Gh.shape[1]
+    A = sp.hstack([sp.csr_matrix(P.Eh.T), -sp.csr_matrix(Gh)]).tocsr()
+    Keq = sp.vstack([A, sp.hstack([sp.csr_matrix(P.fLh.reshape(1, -1)), sp.csr_matrix((1, n_f))])]).tocsr()
+    keq = np.concatenate([np.zeros(A.shape[0]), [1.0]])
+    n = n_dof + n_f
+    c = np.concatenate([np.zeros(n_dof), np.asarray(w, dtype=float)])
+    lo = np.concatenate([np.full(n_dof, -np.inf), np.zeros(n_f)])
+    res = lpsub.solve(c, Keq, keq, sp.csr_matrix((0, n)), np.zeros(0), lo, np.full(n, np.inf), backend,
+                      time_limit=time_limit, almost=True)
+    if not res.ok:
+        return Kinematics(None, None, res.status, res.no_point)
+    return Kinematics(res.z[:n_dof], np.maximum(res.z[n_dof:], 0.0), res.status, False)

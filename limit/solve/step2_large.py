@@ -109,8 +109,17 @@ LP_TOL_NEAR = {2: 1e-7, 3: None}
 #: flowing-face rules of the snap, and whether the first one passing the check is kept: at scale
 #: "support" is the one that passes, and stopping there saves the second piece LP (4-5 s at
 #: 1,008 blocks)
-SNAP_RULES = ("support", "ratio")
+SNAP_RULES = ("support", "ratio", "least-slack")
 SNAP_FIRST = True
+#: the "least-slack" rule: the flowing faces are those of the mechanism closest to complementary
+#: with the iterate's statics (:func:`limit.solve.rigid_clusters.least_slack_flow`: least work on
+#: the faces' slacks), where its multiplier exceeds this fraction of the largest (the smaller
+#: multipliers are set to zero, and the independent check judges the compatibility left). It is tried
+#: after the others: where the statics' optimal face is degenerate (the iterate's normal forces
+#: keep moving at a settled alpha), the interior point's mechanism is a centre of its optimal face
+#: that flows on faces no statics can hold at their limit together ("support"), and "ratio" keeps
+#: too few faces for a mechanism
+LEAST_SLACK_SUPPORT = 1e-6
 #: ... and from VERY_LARGE_MIN_FREE free blocks on: a snap is tried below a residual of
 #: SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first. A failed snap costs
 #: there 15-57 s of piece LPs against 5-7 s for one more LP. 10,050 2D blocks, the 0.5 mu start
@@ -124,7 +133,7 @@ VERY_LARGE_MIN_FREE = 5000
 VERY_LARGE_DIMS = (2,)
 SNAP_COMP_LARGE = 1e-4
 SNAP_PLATEAU_LARGE = 1e-3
-SNAP_RULES_LARGE = ("ratio", "support")
+SNAP_RULES_LARGE = ("ratio", "support", "least-slack")
 #: LP backends of the snap's piece LPs, tried in turn until one gives a point that passes the
 #: check: at 3,052 blocks HiGHS failed both piece LPs ("Not Set", 25-35 s each) where Clarabel's
 #: interior point solved and verified the support rule's in 1.2 s. When a backend proves every
@@ -280,15 +289,25 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
         return None if deadline is None else deadline - time.perf_counter()
 
     P = N.P
-    flows = nlp.flowing_faces(N, z, rule)
-    act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
-    # kinematics on the rigid clusters of blocks that the faces that do not flow leave (a small LP)
-    kin = rigid_clusters.kinematics(P, N.Gh, flows, KINEMATICS_BACKEND, time_limit=left())
-    if kin.vh is None:
-        return Snap(None, f"piece LP kinematics ({rule}): {kin.status}", infeasible=kin.no_point)
-    vh, lam_act = kin.vh, kin.lam
-    lamh = np.zeros(P.model.n_faces)
-    lamh[act] = lam_act
+    if rule == "least-slack":  # the kinematics first, on every face; its support flows
+        s = np.maximum(N.slack(z), 0.0)
+        kin = rigid_clusters.least_slack_flow(P, N.Gh, s / max(s.max(initial=0.0), 1e-300), KINEMATICS_BACKEND,
+                                              time_limit=left())
+        if kin.vh is None:
+            return Snap(None, f"least-slack mechanism: {kin.status}", infeasible=kin.no_point)
+        flows = kin.lam > LEAST_SLACK_SUPPORT * max(kin.lam.max(initial=0.0), 1e-300)
+        act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
+        vh, lamh = kin.vh, np.where(flows, kin.lam, 0.0)
+    else:
+        flows = nlp.flowing_faces(N, z, rule)
+        act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
+        # kinematics on the rigid clusters of blocks that the faces that do not flow leave (a small LP)
+        kin = rigid_clusters.kinematics(P, N.Gh, flows, KINEMATICS_BACKEND, time_limit=left())
+        if kin.vh is None:
+            return Snap(None, f"piece LP kinematics ({rule}): {kin.status}", infeasible=kin.no_point)
+        vh = kin.vh
+        lamh = np.zeros(P.model.n_faces)
+        lamh[act] = kin.lam
     if backend == "ipm":  # the statics on the structured interior point method
         t = left()
         if t is not None and t <= 0:
