@@ -125,3 +125,34 @@ def test_two_blocks_sharing_two_interfaces_are_one_cluster():
     res, fl = _flow_residual(P, N, flows, vh, lam)
     assert res < 1e-7 and fl == pytest.approx(1.0, abs=1e-7)
     assert rigid_clusters.clusters(P, np.zeros(P.model.n_faces, bool))[0].shape[1] == 0
+
+
+@pytest.mark.parametrize("cheap", ["slide", "rock"])
+def test_the_least_slack_mechanism_flows_where_the_weights_are_zero(cheap):
+    """rigid_clusters.least_slack_flow: min w . lam over the mechanisms (fL . u = 1). One block,
+    b = 0.3 by h = 1.0, on a fixed base, pushed along +x. Weights 0 on the sliding faces and 1 on
+    the rocking ones: the free mechanism is the pure slide (u = [1/W, 0, 0] up to the
+    normalisation; ux > 0, uy = rz = 0) and no rocking face flows. Weights the other way round:
+    the block rocks about its right toe p = (b, 0) with rate w < 0 (clockwise): its centroid
+    c = (b/2, h/2) moves u = w x (c - p), so ux = -w h/2 and uy = -w b/2. Lifting off the base
+    (ux = 0, uy > 0: both rocking faces open) is free too, as the normalisation asks for the
+    live load's work only: every optimum has rz = -ux / (h/2), uy / ux >= b / h, and no sliding
+    face flows."""
+    from limit.model.yield_domain import ROCK, SLIDE
+
+    P = assemble(load_scene(B.single_block(dim=2, b=0.3, h=1.0, mu=0.6)))
+    N = build(P)
+    kind = P.model.kind
+    w = np.where(kind == (ROCK if cheap == "slide" else SLIDE), 1.0, 0.0)
+    kin = rigid_clusters.least_slack_flow(P, N.Gh, w)
+    assert kin.vh is not None
+    _, _, u, lam = N.unscale(N.join(0.0, np.zeros(P.model.n_x), kin.vh, kin.lam))
+    lam = np.maximum(lam, 0.0)
+    flowing = lam > 1e-7 * lam.max()
+    assert flowing.any() and float(w @ kin.lam) < 1e-8
+    if cheap == "slide":
+        assert set(kind[flowing]) == {SLIDE}
+        assert u[0] > 0 and abs(u[1]) < 1e-7 * u[0] and abs(u[2]) < 1e-7 * u[0]
+    else:
+        assert set(kind[flowing]) == {ROCK}
+        assert u[0] > 0 and u[2] == pytest.approx(-u[0] / 0.5, rel=1e-6) and u[1] / u[0] >= 0.3 * (1 - 1e-6)
