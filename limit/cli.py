@@ -74,10 +74,20 @@ def _parser() -> argparse.ArgumentParser:
     pc.add_argument("--ag", type=float, default=None, metavar="G",
                     help="peak ground acceleration on rock, in g: with it, the check against this demand (the "
                          "spectrum options below) instead of the scene's own 'demand', if any")
-    for k, v, h in (("S", 1.0, "soil and topography factor"), ("F0", 2.5, "spectral amplification"),
-                    ("TB", 0.15, "corner period TB (s)"), ("TC", 0.5, "corner period TC (s)"),
-                    ("TD", 2.0, "corner period TD (s)"), ("q", 2.0, "behaviour factor"),
-                    ("Z", 0.0, "height of the mechanism's base (m; 0: ground level)")):
+    pc.add_argument("--F0", type=float, default=None, help="spectral amplification (default 2.5; required with --Tc-star)")
+    pc.add_argument("--Tc-star", type=float, default=None, metavar="S",
+                    help="Tc* of the limit state (s): with it S, TB, TC and TD come from the site (NTC 2018 "
+                         "3.2.3.2.1: --soil, --topography); an explicit --S, --TB, --TC or --TD overrides one")
+    pc.add_argument("--soil", default=None, choices=["A", "B", "C", "D", "E"],
+                    help="subsoil category, with --Tc-star (default A): SS and CC of NTC 2018 Table 3.2.IV")
+    pc.add_argument("--topography", default=None, choices=["T1", "T2", "T3", "T4"],
+                    help="topographic category, with --Tc-star (default T1): ST of NTC 2018 Table 3.2.V")
+    pc.add_argument("--topography-ratio", type=float, default=None, metavar="R",
+                    help="the site's height above the relief's base over the relief's height (default 1: the top)")
+    for k, v, h in (("S", 1.0, "soil and topography factor"), ("TB", 0.15, "corner period TB (s)"),
+                    ("TC", 0.5, "corner period TC (s)"), ("TD", 2.0, "corner period TD (s)")):
+        pc.add_argument(f"--{k}", type=float, default=None, help=f"{h} (default {v:g}, or the site's with --Tc-star)")
+    for k, v, h in (("q", 2.0, "behaviour factor"), ("Z", 0.0, "height of the mechanism's base (m; 0: ground level)")):
         pc.add_argument(f"--{k}", type=float, default=v, help=f"{h} (default {v:g})")
     pc.add_argument("--H", type=float, default=None, help="building height (m), with Z > 0")
     pc.add_argument("--N", type=int, default=None, help="storeys, with Z > 0")
@@ -122,17 +132,21 @@ def cmd_check(args) -> int:
     from limit.analysis import analyse, public
     from limit.verdict.local_check import format_assessment, verdict
     from limit.model.scene import load_scene
-    from limit.model.seismic_demand import Demand
+    from limit.model.seismic_demand import from_mapping
 
     if args.fc is not None and not (args.fc >= 1.0):
         raise SceneError(f"--fc: the confidence factor must be >= 1, got {args.fc}")
     demand = None
     if args.ag is not None:
+        given = dict(ag_g=args.ag, S=args.S, F0=args.F0, TB=args.TB, TC=args.TC, TD=args.TD, q=args.q, Z=args.Z,
+                     H=args.H, N=args.N, T1=args.T1, xi1=args.xi1, xi_mech=args.xi_mech, Tc_star=args.Tc_star,
+                     soil=args.soil, topography=args.topography, topography_ratio=args.topography_ratio)
         try:
-            demand = Demand(ag_g=args.ag, S=args.S, F0=args.F0, TB=args.TB, TC=args.TC, TD=args.TD, q=args.q,
-                            Z=args.Z, H=args.H, N=args.N, T1=args.T1, xi1=args.xi1, xi_mech=args.xi_mech)
+            demand = from_mapping({k: v for k, v in given.items() if v is not None})
         except ValueError as exc:
             raise SceneError(str(exc).replace("demand.ag_g", "--ag").replace("demand.xi_mech", "--xi-mech")
+                             .replace("demand.Tc_star", "--Tc-star").replace("demand.topography_ratio",
+                                                                             "--topography-ratio")
                              .replace("demand.", "--")) from None
     scene = load_scene(args.scene, strict=args.strict)
     try:

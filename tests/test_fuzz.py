@@ -160,3 +160,46 @@ def test_load_mutants_are_rejected_or_analysed():
         assert res["lp"]["status"] in STATUSES, (k, res["lp"])
         counts["analysed"] += 1
     assert counts["no_work"] >= 3 and counts["analysed"] > 30, counts
+
+
+DEMAND_SEED, DEMAND_MUTANTS = 20261128, 100
+DEMAND_KEYS = ["ag_g", "S", "F0", "TB", "TC", "TD", "q", "eta", "Z", "H", "N", "T1", "xi1", "xi_mech", "fc",
+               "Tc_star", "soil", "topography", "topography_ratio", "site_class"]
+DEMAND_VALUES = ODD + [0.3, 2.5, 0.05, 1.5, 12, "A", "C", "F", "T2", "T9", [0.3]]
+
+
+@pytest.mark.slow  # the LP and the code check of every mutant that loads
+def test_demand_mutants_are_rejected_or_checked():
+    """Mutated ``demand`` objects (on the catalog's block-rocking-2d, given {"ag_g": 0.2}): keys set to
+    odd or plausible values (the site's keys among them, and a key no demand has), deleted, or
+    the site's keys added together. Each mutant is rejected naming a key, or analysed with a
+    verdict, never an internal error."""
+    rng = random.Random(DEMAND_SEED)
+    base = json.loads(next(p for p in SMALL if p.stem == "block-rocking-2d").read_text())
+    base["demand"] = {"ag_g": 0.2}
+    counts = {"rejected": 0, "checked": 0, "site": 0}
+    for k in range(DEMAND_MUTANTS):
+        m = copy.deepcopy(base)
+        dem = m["demand"]
+        for _ in range(rng.choice([1, 1, 2, 3])):
+            key = rng.choice(DEMAND_KEYS)
+            if rng.random() < 0.2:
+                dem.pop(key, None)
+            else:
+                dem[key] = copy.deepcopy(rng.choice(DEMAND_VALUES))
+        if rng.random() < 0.3:
+            dem.update(F0=2.5, Tc_star=rng.choice([0.2, 0.35, 0.5]), soil=rng.choice("ABCDE"))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SceneWarning)
+            try:
+                res = analyse(load_scene(m), method="lp")
+            except SceneError as exc:
+                assert "demand" in str(exc) or "ag_g" in str(exc), (k, str(exc))
+                counts["rejected"] += 1
+                continue
+            except Exception as exc:  # noqa: BLE001 - the failure this test exists to catch
+                pytest.fail(f"mutant {k}: internal error {type(exc).__name__}: {exc}\n{json.dumps(dem)}")
+        assert res["verdict"]["status"] in ("done", "no mechanism", "failed"), (k, res["verdict"])
+        counts["checked"] += 1
+        counts["site"] += bool((res["verdict"].get("demand") or {}).get("site"))
+    assert counts["rejected"] > 10 and counts["checked"] > 10 and counts["site"] > 3, counts

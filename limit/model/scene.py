@@ -295,10 +295,10 @@ def _demand(d: dict | None):
     the key."""
     if d is None:
         return None
-    from limit.model.seismic_demand import Demand
+    from limit.model.seismic_demand import from_mapping
 
     try:
-        return Demand(**{k: v for k, v in d.items() if k != "fc"})
+        return from_mapping(d)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
 

@@ -46,7 +46,7 @@ pass.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, fields
 
 G = 9.81
 
@@ -72,7 +72,9 @@ class Demand:
     ground level); ``xi1``: the building's first-mode equivalent damping (fraction; 0.05
     elastic, 0.10-0.20 for a masonry building at the ultimate state, Circolare 2019
     C8.7.1.2.1.4); ``xi_mech``: the mechanism's damping at SLV (fraction, 0.08 by default,
-    C8.7.1.2.1.8). ``xi1`` and ``xi_mech`` enter only the nonlinear check above ground."""
+    C8.7.1.2.1.8). ``xi1`` and ``xi_mech`` enter only the nonlinear check above ground.
+    ``site``: how S, TB, TC and TD were derived from the site (:func:`from_mapping`), None when
+    they were given."""
 
     ag_g: float
     S: float = 1.0
@@ -88,6 +90,7 @@ class Demand:
     T1: float | None = None
     xi1: float = 0.05
     xi_mech: float = 0.08
+    site: dict | None = field(default=None, compare=False)
 
     def __post_init__(self):
         for k in ("ag_g", "S", "F0", "TB", "TC", "TD", "q", "eta", "xi1", "xi_mech"):
@@ -155,6 +158,47 @@ class Demand:
 def slv_period(du_star: float, au_star: float) -> float:
     """T_SLV (s) = 1.68 pi sqrt(du* / a*(du*)) (Circolare 2019 [C8.7.1.10]; m, m/s^2)."""
     return SLV_PERIOD * math.pi * math.sqrt(du_star / au_star)
+
+
+#: the site's keys of a demand (limit.model.site_spectrum): with them S, TB, TC and TD are derived
+SITE_KEYS = ("Tc_star", "soil", "topography", "topography_ratio")
+#: the spectrum's keys that the site derives, and that an explicit value overrides
+DERIVED_KEYS = ("S", "TB", "TC", "TD")
+
+
+def from_mapping(d: dict, where: str = "demand") -> Demand:
+    """A :class:`Demand` from a scene file's ``demand`` object (or the ``limit check`` options).
+
+    With any of :data:`SITE_KEYS`, S, TB, TC and TD come from the site (NTC 2018 section
+    3.2.3.2.1, :func:`limit.model.site_spectrum.site_parameters`; ``Tc_star`` and ``F0`` are then
+    required, ``soil`` defaults to A, ``topography`` to T1, ``topography_ratio`` to 1); an explicit
+    S, TB, TC or TD overrides the derived value, and ``Demand.site`` records both. Keys that are
+    not a Demand's (the scene loader has warned about them already, or rejected them under
+    ``--strict``) are ignored. Raises ValueError naming the key (``where``.key)."""
+    from limit.errors import SceneError
+    from limit.model.site_spectrum import site_parameters
+
+    names = {f.name for f in fields(Demand)} - {"site"}
+    kw = {k: v for k, v in d.items() if k in names}
+    if "ag_g" not in kw:
+        raise ValueError(f"{where}.ag_g: required (the peak ground acceleration on rock, in g)")
+    if any(k in d for k in SITE_KEYS):
+        for k in ("Tc_star", "F0"):
+            if k not in d:
+                raise ValueError(f"{where}.{k}: required with the site's soil and topography (NTC 2018 3.2.3.2.1: "
+                                 "ag_g, F0 and Tc_star of the limit state)")
+        try:
+            par = site_parameters(d["ag_g"], d["F0"], d["Tc_star"], d.get("soil", "A"), d.get("topography", "T1"),
+                                  d.get("topography_ratio", 1.0), where)
+        except SceneError as exc:
+            raise ValueError(str(exc)) from None
+        given = {k: kw[k] for k in DERIVED_KEYS if k in kw}
+        kw = {**{k: par[k] for k in DERIVED_KEYS}, **kw}
+        kw["site"] = {"code": "NTC 2018 3.2.3.2.1", "Tc_star": float(d["Tc_star"]), "soil": d.get("soil", "A"),
+                      "topography": d.get("topography", "T1"),
+                      "topography_ratio": float(d.get("topography_ratio", 1.0)), "SS": par["SS"], "CC": par["CC"],
+                      "ST": par["ST"], "derived": {k: par[k] for k in DERIVED_KEYS}, "overridden": given}
+    return Demand(**kw)
 
 
 def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: float | None = None,
