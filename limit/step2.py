@@ -279,7 +279,7 @@ LARGE_MIN_FREE = 200
 #: and keeps its verified alpha when that is lower by more than LOWER_BY (relative): on the
 #: 70-stone Fig. 3 wall the successive LP kept the LP's own point, 0.570752, where the iterative
 #: LP from 0.5 mu verified 0.520808 (YADE 0.4995; LMGC90 0.5123 searching from 0.5708, 0.5039 from
-#: 0.5208; 2026-11-27)
+#: 0.5208)
 ALSO_ITERATIVE = True
 LOWER_BY = 1e-9
 

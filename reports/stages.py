@@ -36,7 +36,7 @@ GLOBAL_TIME_LIMIT = 60.0
 #: the wall clock, WALL_FACTOR x that, as the guard against a hung engine. The slowest YADE stage
 #: (Fig. 2b) needs about 690 s of CPU on the usual machine. A fixed wall-clock limit of 1,500 s
 #: failed both Fig. 2b and the 70-stone Fig. 3 wall (426 s there) on a machine 2.7 times slower
-#: whose cores were shared (2026-11-27: killed at 1,500 s with 1,150 s of CPU used each); with 4 x
+#: whose cores were shared (killed at 1,500 s with 1,150 s of CPU used each); with 4 x
 #: the cost the 70-stone wall was killed again, at 1,704 s of CPU (2,544 s on the wall clock, the
 #: cores shared with a test run): on that machine, busy, it needs over 4 times its measured cost.
 DEM_CPU_LIMIT = 1500.0

@@ -18,9 +18,8 @@ CATALOG_DIR = Path(__file__).resolve().parent / "catalog"
 
 #: measured cost (CPU s) of each scene's YADE stage and LMGC90 stage on this project's 2-core
 #: machine, for the validation to start the costliest stages first; written to meta.dem.cost_s
-#: and meta.lmgc.cost_s. YADE: fresh-clone ``make validate`` (2026-11-26, main at cf9f506; the
-#: five above 60 s one run each, the other core busy). LMGC90: one run each, two at a time,
-#: searching from the frictional alpha (2026-11-26, the search of main after af4bba8).
+#: and meta.lmgc.cost_s. YADE: fresh-clone ``make validate`` (the five above 60 s one run each).
+#: LMGC90: one run each, two at a time, searching from the frictional alpha.
 DEM_COST_S = {"paper-fig2b-double-arch-2d": 689, "paper-fig3-opus-poligonale-70-2d": 426,
               "paper-fig6-intersecting-walls-3d": 309, "paper-fig5-trilithic-3d": 295,
               "paper-fig7-fountain-full-3d": 277, "paper-fig3-opus-poligonale-40-2d": 236, "corner-walls-3d": 119,
@@ -39,7 +38,7 @@ LMGC_COST_S = {"paper-fig3-opus-poligonale-70-2d": 190.0, "paper-fig3-opus-polig
 FIG3_70_DEM_NOTE = (
     " YADE's vertex model does not converge with stiffness on this wall: 0.507 at eps 1e-5 and 0.49-0.50 at "
     "2.5e-6, while a third run at 6.25e-7 bracketed 0.576-0.579 and then asked for a fourth, over an hour of "
-    "CPU in all (2026-11-27). The stage keeps the two default stiffnesses (refine_max 0), so its value is "
+    "CPU in all. The stage keeps the two default stiffnesses (refine_max 0), so its value is "
     "the soft-contact one; LMGC90's rigid contacts are the second check.")
 
 
@@ -86,12 +85,12 @@ def entries() -> dict:
     oop["meta"] = {"sweep": {"step": 5},  # the worst direction: half the circle solved, by the symmetry
                    "notes": "The LP's mechanism (overturning about the base edge, t/H) has no sliding, so step 2 "
                             "is skipped and t/H is reported. It is a frictional collapse state but not the lowest: "
-                            "the MILP of limit/solve/milp.py, stopped at 400 s without a proof, found ones that "
-                            "pass the independent check, 0.18723 on one machine and 0.18173 on a faster one "
-                            "(4 interfaces slide, 2 twist, 5 rock), up to 4.6 % lower; `limit solve --global "
-                            "--global-time-limit 400` reports such a point as the answer. Step 2 run anyway stays "
-                            "at t/H, and both engines follow t/H: a monotonic pushover need not reach the "
-                            "lowest frictional collapse state (2026-11-27)."}
+                            "the MILP of limit/solve/milp.py, stopped at 400 s without a proof (how far it gets "
+                            "depends on the machine's speed), found ones that pass the independent check, "
+                            "0.18723 and 0.18173 in two runs (4 interfaces slide, 2 twist, 5 rock), up to 4.6 % "
+                            "lower; `limit solve --global --global-time-limit 400` reports such a point as the "
+                            "answer. Step 2 run anyway stays at t/H, and both engines follow t/H: a monotonic "
+                            "pushover need not reach the lowest frictional collapse state."}
     add(oop)
     th = math.radians(30.0)
     obl = B.single_block(dim=3, b=0.4, h=1.0, t=0.25, mu=2.0, name="block-oblique-3d",

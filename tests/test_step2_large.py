@@ -353,3 +353,25 @@ def test_a_snap_whose_interior_point_pieces_all_diverge_asks_no_other_backend(mo
     r = step2_large.run_start(P, N, step2_large.start_nstar(P, sol, 0.5), sol.alpha)
     assert "ipm" in asked and r["snaps"] >= 1
     assert ("clarabel" in asked) is not trust
+
+
+@pytest.mark.slow  # about a minute: 27 interior point LPs of 1,220 blocks and one snap
+def test_a_wall_whose_statics_stay_degenerate_verifies_by_the_least_slack_snap():
+    """The 1,220-block running-bond wall of issue 48 (units 0.25 x 0.1 m, mu 0.7; built with the
+    wall generator as ``limit build wall --length 7.5 --height 4.0 --unit 0.25 0.12 0.1 --mu 0.7``),
+    the LP's start alone. Its alpha settles while the normal forces keep moving on a degenerate
+    optimal face, and the snaps of the "support" and "ratio" rules all fail there (without the
+    third rule the start stalled at a residual of 3.5e-5 after 89 LPs: docs/performance.md). The
+    "least-slack" rule must snap it to a point that passes the independent check, below the LP's
+    alpha (an associative upper bound of every frictional collapse state)."""
+    from scenes.generators import wall
+
+    P, sol = _solved(wall(length=7.5, height=4.0, unit=(0.25, 0.12, 0.1), mu=0.7))
+    assert P.n_dof // P.scene.ndof == 1220
+    out = step2_large.solve(P, sol, factors=(1.0,), workers=1)
+    assert out["ok"], out["reason"]
+    run = out["starts"][0]
+    assert run["verified"] and "least-slack" in run["how"], run
+    ok, res, why = nlp.check(out["N"], out["z"], sol.alpha)
+    assert ok, why
+    assert out["alpha"] < sol.alpha * (1 - 1e-3)

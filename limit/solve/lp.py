@@ -139,9 +139,9 @@ def _unscale(P: Assembled, sol: LPSolution, alpha, xh, vh, lamh) -> None:
 #: :func:`limit.solve.ipm.solve`'s ``almost`` for the step-1 LP: when the method stalls short of its
 #: tolerance (1e-9), its best iterate is returned as "inaccurate" if its largest relative residual
 #: is at most this, and then checked like every LP answer (:func:`limit.solve.verify.check_lp`,
-#: 1e-6). On the 30-block 3D wall of the catalog (paper model, AVX-512 machine, 2026-11-27) the
-#: dual residual fell to 1.0e-9, just above the tolerance, at iteration 14 (alpha 0.65 to 1e-10),
-#: then rose to 1e-4..1e-3 as mu fell to 1e-22, and the method failed after 200 iterations
+#: 1e-6). On the 30-block 3D wall of the catalog (paper model) the dual residual fell to 1.0e-9,
+#: just above the tolerance, at iteration 14 (alpha 0.65 to 1e-10), then rose to 1e-4..1e-3 as mu
+#: fell to 1e-22, and the method failed after 200 iterations
 IPM_ALMOST = 1e-8
 
 

@@ -62,7 +62,7 @@ OMEGA_LARGE = 0.5
 #: (tried at 10,050 2D blocks, one start, and not kept: 0.25 from the start stalled at a residual of
 #: 0.05; Anderson acceleration of N* with a memory of 5 (Walker & Ni 2011) stalled at 0.12; a
 #: relaxation per friction row, halved where its residual changed sign, was no better than one)
-#: (tried and not kept, 2026-11-27: omega = 1 for one update once the residual had fallen by the
+#: (tried and not kept: omega = 1 for one update once the residual had fallen by the
 #: factor 1 - omega at each of two LPs in a row, as it does near a fixed point of N* -> N: at 10,050
 #: 2D blocks the 0.4 mu start verified at 206 s instead of 218 s, 36 LPs instead of 41; but with
 #: the very large walls' settings forced onto running-bond walls of 6 to 36 blocks, 2 of the 3
@@ -70,13 +70,13 @@ OMEGA_LARGE = 0.5
 OMEGA_MIN = 0.125
 STALL = 8
 #: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension, from
-#: PROX_MIN_FREE free blocks on (None: none). Measured in one session (2026-11-26, a machine on
-#: which one LP of 10,050 blocks took 20.6 s, 8 s before), the whole route, both starts, 600 s
-#: budget: 10,050 2D blocks, without it neither start verified (one stalled at a residual of
-#: 8.4e-3, the other ran out of time); with 0.03 the 0.5 mu start verified 0.335865 at 457 s, with
-#: LPs of 5.6-7.5 s against 11.4 s (the QP's interior point converges in fewer iterations).
-#: 3,052 blocks: 88.2 s with it against 76.1 and 82.1 s without (the same 0.337984), hence the
-#: threshold. Weights 0.1 and 1 stalled at 10,050 blocks; at 1,008, 0.1 took 10 LPs against 16
+#: PROX_MIN_FREE free blocks on (None: none). Measured on the whole route, both starts, a 600 s
+#: budget, with a first LP of 20.6 s at 10,050 blocks: 10,050 2D blocks, without it neither start
+#: verified (one stalled at a residual of 8.4e-3, the other ran out of time); with 0.03 the 0.5 mu
+#: start verified 0.335865 at 457 s, with LPs of 5.6-7.5 s against 11.4 s (the QP's interior point
+#: converges in fewer iterations). 3,052 blocks: 88.2 s with it against 76.1 and 82.1 s without (the
+#: same 0.337984), hence the threshold. Weights 0.1 and 1 stalled at 10,050 blocks; at 1,008, 0.1
+#: took 10 LPs against 16
 PROX = {2: 0.03, 3: None}
 PROX_MIN_FREE = 5000
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
@@ -123,7 +123,7 @@ LEAST_SLACK_SUPPORT = 1e-6
 #: ... and from VERY_LARGE_MIN_FREE free blocks on: a snap is tried below a residual of
 #: SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first. A failed snap costs
 #: there 15-57 s of piece LPs against 5-7 s for one more LP. 10,050 2D blocks, the 0.5 mu start
-#: alone (2026-11-26, the slow machine of PROX): with the values above, snaps at residuals of
+#: alone, its LPs as slow as in PROX's measurement: with the values above, snaps at residuals of
 #: 1.7e-3 and 3.9e-4 failed both rules and one at 3.6e-5 failed "support" (114 s in all) before
 #: "ratio" verified 0.335865, at 473 s from the start; with these, the same LPs and one snap,
 #: at 7.2e-5, verified the same alpha at 367 s. The residual is a sum over the faces, and the
@@ -140,18 +140,18 @@ SNAP_RULES_LARGE = ("ratio", "support", "least-slack")
 #: rule's piece LP infeasible (the flowing faces guessed wrong), the next is not asked. "ipm": the
 #: statics on the structured interior point method (:mod:`limit.solve.piece_statics`), which
 #: proves nothing infeasible (it stops when its iterates diverge). On saved iterates of the
-#: 3,052-block 2D wall (2026-11-27, the other core busy) it gave Clarabel's alpha to 1e-11 in
+#: 3,052-block 2D wall it gave Clarabel's alpha to 1e-11 in
 #: 1.6-2.1 s against 2.5-4.3 s, and in 0.2-0.4 s gave up on pieces Clarabel proved infeasible
 SNAP_BACKENDS = ("ipm", "clarabel", "highs")
 #: a piece whose interior point diverges (ipm.solve's ``mu_diverged``: "probably no feasible
 #: point") counts as infeasible, like a piece a backend proved infeasible: when every rule's piece
-#: did, no other backend is asked. At 10,050 2D blocks (0.4 mu start, 2026-11-27) a snap at a
+#: did, no other backend is asked. At 10,050 2D blocks (0.4 mu start) a snap at a
 #: residual of 1.3e-5 diverged on both rules in 5.5 and 7.8 s, and Clarabel then proved both
 #: infeasible in 21.5 and 16.7 s; on the 4 x 4 walls of tests/test_piece_statics.py the
 #: interior point answered every piece the simplex solved above alpha = 0
 SNAP_TRUST_DIVERGED = True
 #: LP backend of the snap's kinematics on rigid clusters. At 10,050 2D blocks the kinematics on
-#: every block dof took Clarabel 18.5 s per snap (cProfile, 2026-11-27); on the clusters it takes
+#: every block dof took Clarabel 18.5 s per snap (cProfile); on the clusters it takes
 #: 0.1-1 s at 3,052 blocks. HiGHS is as fast on the small ones (3 to 90 cluster unknowns) but on
 #: the "support" rule's large flowing sets (7,000-8,000 faces, 900-1,800 cluster unknowns) it
 #: ended after 6-58 s with an unrecognised status where Clarabel solved in 0.4-1 s
@@ -161,13 +161,13 @@ MAX_ITER = 100
 #: friction factors of the starts (1 = the associative LP itself)
 START_FACTORS = (1.0, 0.5, 0.25)
 #: ... and from VERY_LARGE_MIN_FREE free blocks on. 10,050 2D blocks, one start alone each, with the
-#: snap settings of VERY_LARGE_MIN_FREE (2026-11-26, the slow machine of PROX): 0.5 verified 0.335865
-#: at 367 s (41 LPs), 0.4 the same at 427 s (48 LPs); 0.25 and 0.6 stalled at residuals of
-#: 4.7e-3 and 1.1e-2. The associative LP's own start never verified there in four runs (stalled
-#: at 8.4e-3 and 9.3e-3, or 600 s spent): beside 0.5 it held its core to the end of the budget
+#: snap settings of VERY_LARGE_MIN_FREE, its LPs as slow as in PROX's measurement: 0.5 verified
+#: 0.335865 at 367 s (41 LPs), 0.4 the same at 427 s (48 LPs); 0.25 and 0.6 stalled at residuals of
+#: 4.7e-3 and 1.1e-2. The associative LP's own start never verified there in four runs (stalled at
+#: 8.4e-3 and 9.3e-3, or 600 s spent): beside 0.5 it held its core to the end of the budget
 START_FACTORS_LARGE = (0.5, 0.4)
 #: ... and from ONE_ROUND_MIN_FREE free blocks on in 3D, where the associative LP's own start was
-#: the slowest and not the lowest (running-bond walls, mu 0.9, 2026-11-27): 1,017 blocks, the LP's
+#: the slowest and not the lowest (running-bond walls, mu 0.9): 1,017 blocks, the LP's
 #: start 0.560176 in 67 LPs, 0.5 mu 0.553388 in 34, 0.25 mu 0.552063 in 31; 3,024 blocks, the LP's
 #: 0.527754 in 87 LPs (428 s), 0.5 mu 0.526630 in 44, 0.25 mu 0.525765 in 52
 START_FACTORS_ONE_ROUND_3D = (0.5, 0.25, 1.0)
@@ -188,9 +188,9 @@ WARM_START_DIMS = (2,)
 #: (10,050 blocks: 0.335865 from both starts in each of four runs with both verified; 3,052
 #: blocks: 0.337984; 1,008 blocks: 0.341463 from all three), and a grace long enough for the
 #: second start was never short: at 10,050 blocks it verified 46 % to 56 % of the first one's
-#: time later (0.4 mu at 218 and 221 s, 0.5 mu at 319 and 339 s, 2026-11-27), so a grace of 0.25
-#: (the value until 2026-11-27) stopped it unverified in each of four runs and cost a quarter of
-#: the route. With 0 (2026-11-27, idle machine): 222 s (0.4 mu verified at 200 s, 34 LPs) where
+#: time later (0.4 mu at 218 and 221 s, 0.5 mu at 319 and 339 s), so a grace of 0.25 stopped it
+#: unverified in each of four runs and cost a quarter of the route. With 0: 222 s (0.4 mu
+#: verified at 200 s, 34 LPs) where
 #: 0.25 gave 279-299 s with the same 34 LPs; but with OPENBLAS_NUM_THREADS=1 (as ``make bench``
 #: sets it) the 0.4 mu start's path takes 41 LPs and 2 snaps (rounding outside the interior point
 #: method steers it) and the route took 290 and 298 s either way; with SNAP_TRUST_DIVERGED as well,
