@@ -117,3 +117,15 @@ def test_solve_rejects_bad_choices(args, option, capsys):
         main(["solve", str(SIDE), *args])
     assert exc.value.code == 2
     assert option in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("extra,cone", [((), "4-face circumscribed"), (("--slide-faces", "24"), "24-face inscribed")])
+def test_the_lp_line_names_the_3d_friction_cone(extra, cone):
+    """The summary's LP line says which friction cone a 3D LP used (the paper model's default 4
+    circumscribed faces, or what --slide-faces asks for); a 2D LP line names none."""
+    r = run_module("limit", "solve", ROOT / "scenes" / "catalog" / "wall-out-of-plane-3d.json", "--method", "lp",
+                   *extra)
+    assert r.returncode == 0, r.stderr
+    assert f"paper interfaces, {cone} friction cone)" in r.stdout
+    r2 = run_module("limit", "solve", SIDE, "--method", "lp")
+    assert "paper interfaces)" in r2.stdout and "friction cone" not in r2.stdout

@@ -11,7 +11,10 @@ def format_result(res: dict) -> str:
     lines = [f"{res['scene']}: {res['dim']}D, {res['n_free_blocks']} free blocks, "
              f"{res['n_interfaces']} interfaces"]
     lp = res["lp"]
-    lines.append(f"LP  ({lp['solver']}, {lp['model']['interfaces']} interfaces): {_alpha(lp)}  "
+    model = lp["model"]
+    cone = (f", {model['n_slide']}-face {model['slide_fit']} friction cone"
+            if res["dim"] == 3 and model.get("n_slide") else "")
+    lines.append(f"LP  ({lp['solver']}, {model['interfaces']} interfaces{cone}): {_alpha(lp)}  "
                  f"[{lp['status']}, {lp['time_s']:.3g} s]" + (f"  {lp['reason']}" if lp.get("reason") else ""))
     sol = res.get("_lp_solution")
     if lp["status"] == "optimal" and sol is not None:
