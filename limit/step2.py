@@ -280,9 +280,8 @@ def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
 #: in 8-42 s); at 300 blocks it stops at its time budget with a local point
 LARGE_MIN_FREE = 200
 #: below LARGE_MIN_FREE, ``solver="auto"`` runs the large-scale route too, before the successive LP
-#: (which, when the large route has verified, stops at TIME_BUDGET instead of HARD_FACTOR budgets:
-#: on the wall family's 138-block 3D wall it had no verified point after 600 s, where the large
-#: route verified 0.685143), and keeps its verified alpha when that is lower by more than LOWER_BY
+#: (which, when the large route has verified, stops at TIME_BUDGET instead of HARD_FACTOR budgets;
+#: docs/performance.md, 'The wall family'), and keeps its verified alpha when that is lower by more than LOWER_BY
 #: (relative): on the
 #: 70-stone Fig. 3 wall the successive LP kept the LP's own point, 0.570752, where the iterative
 #: LP from 0.5 mu verified 0.520808 (YADE 0.4995; LMGC90 0.5123 searching from 0.5708, 0.5039 from

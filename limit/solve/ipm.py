@@ -49,12 +49,12 @@ ALPHA_DIVERGED = 1e9
 #: rounds of iterative refinement of each Newton step
 REFINE = 3
 #: ... of the predictor, which only sets the centring and the corrector's second-order term. Measured
-#: unrefined (ipm.solve of the step-1 LP, one run each): 3,052 2D blocks 3.14 s against
+#: unrefined (ipm.solve of the step-1 LP): 3,052 2D blocks 3.14 s against
 #: 3.50 s (63 iterations both); 10,050 2D blocks 18.7 s against 21.2 s (87 and 85 iterations); 3D
 #: 1,017 blocks 1.87 s against 1.79 s (39 both); the same alphas to 1e-9
 REFINE_PREDICTOR = 0
 #: Gondzio's centrality correctors per iteration (:func:`_centrality_correctors`) and their
-#: parameters. Measured (ipm.solve of the step-1 LP, one run each),
+#: parameters. Measured (ipm.solve of the step-1 LP),
 #: 0 / 1 / 2 / 3 correctors: 3,052 2D blocks 63 / 61 / 48 / 49 iterations (3.38 / 3.34 / 2.97 /
 #: 2.98 s); 10,050 2D blocks 87 / - / 68 / 62 iterations (18.1 / - / 15.4 / 14.9 s); 3D 3,024
 #: blocks 51 / - / 39 / - (8.17 / - / 6.69 s)
@@ -71,12 +71,8 @@ WARM_SHIFT = 1.0
 #: ``almost`` (see :func:`_solve`): the method is taken as stalled once its largest relative
 #: residual (primal, dual, gap) has had no new low for this many iterations
 ALMOST_STALL = 30
-#: a Newton step whose residual is below this (scaled units) is not refined. (Tried and not kept:
-#: stopping at 1e-3 x the solve's tolerance, which made an iterative LP of 3,052 2D
-#: blocks at tol 1e-4 19 % faster with the same 31 iterations; but the 10,050-block route's 0.4 mu
-#: start then took 80 LPs and 3 snaps to verify 0.337577 instead of 34 LPs to 0.335865: the route's
-#: path follows rounding-level changes of its LPs. Likewise the blocks' inverse entry by entry, 3-7x
-#: faster per call but 2 % of a step-1 LP, after which the 0.5 mu start stalled at 2.1e-3 in two runs)
+#: a Newton step whose residual is below this (scaled units) is not refined (docs/decisions.md:
+#: the looser stops tried)
 REFINE_ABS = 1e-11
 
 
@@ -154,7 +150,7 @@ def _spd_inverse(H: np.ndarray) -> np.ndarray:
     Each block, shifted by REG_H of its largest diagonal entry, is inverted through its
     Cholesky factor L (H = L L.T, H^-1 = L^-T L^-1), column by column over all blocks at once
     (np.linalg.inv with a Cholesky check of its result: 32 ms per call at 10,050 2D blocks, this
-    16 ms; cProfile). A block whose pivot is not
+    16 ms). A block whose pivot is not
     positive, or whose inverse is not finite, goes through its eigenvalues instead, clamped at
     REG_H of the largest."""
     g, k, _ = H.shape
@@ -385,8 +381,8 @@ def solve(Eh: sp.csr_matrix, Yh: sp.csr_matrix, f0h: np.ndarray, fLh: np.ndarray
 
     BLAS runs single-threaded meanwhile: the method makes many small BLAS calls
     (dot products of the slack and multiplier vectors), and with a second thread
-    each waits for a core: with the other core busy the 10,051-block wall took
-    11.1 s with two threads and 6.4 s with one (with both cores free, 6.5 and 7.0 s).
+    each waits for a core (docs/performance.md, 'Measurements moved from code
+    comments').
     """
     from threadpoolctl import threadpool_limits
 

@@ -211,10 +211,9 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     it an upper bound of the frictional minimum, like every step-2 alpha, not the minimum itself:
     and a lower one exists on the catalog's 3D out-of-plane wall (27 blocks): the MILP
     (:mod:`limit.solve.milp`, stopped at 400 s without a proof) found frictional collapse states
-    that pass :func:`check`, 0.187227 and 0.181726 in two runs (4 interfaces slide, 2 twist, 5 rock;
-    ``limit solve --global --global-time-limit 400``, which then reports it; how far the search gets
-    in 400 s depends on the machine's speed), 1.7 % and 4.6 % below the LP's t/H = 0.190476, which
-    the skip reports; step 2 run anyway stays at 0.190476 too, and YADE (0.1903) and LMGC90 (0.1914)
+    that pass :func:`check`, down to 0.181726 (4 interfaces slide, 2 twist, 5 rock; ``limit solve
+    --global --global-time-limit 400``, which then reports it; docs/performance.md), 4.6 % below
+    the LP's t/H = 0.190476, which the skip reports; step 2 run anyway stays at 0.190476 too, and YADE (0.1903) and LMGC90 (0.1914)
     follow t/H. Elsewhere the MILP's global minimum (and step 2 run anyway) agreed with the LP to
     1e-8: the catalog's other 10 such scenes and 56 generated ones (34 slender running-bond walls,
     18 portals, 4 arches)."""

@@ -15,7 +15,7 @@ load's column negated (alpha' = -alpha). Faces that do not flow and whose row va
 reduced actions (parallel to a flowing one) hold with equality and are dropped.
 
 At a 3D wall of 3,024 blocks Clarabel took 16-26 s per statics LP, a quarter of a start's
-time (cProfile of the 0.5 mu start); this solves the same LP on the structure of
+time; this solves the same LP on the structure of
 the iterative LP's LPs. No infeasibility detection: a failure (the method not converging) is
 reported, and the caller asks a general solver.
 """

@@ -16,7 +16,7 @@ velocity as ``v_b = M_b w_c``, with w_c the velocity of its cluster's root block
 cluster held by a fixed block). The unknowns become the clusters' w and lamh_F, and the
 equations only those of the interfaces that flow (and of any interface that cannot be
 eliminated): at 10,050 2D blocks about a thousand rows instead of 60,000, and 0.4 s per snap
-instead of a Clarabel solve of 18 s (cProfile of one start).
+instead of a Clarabel solve of 18 s.
 
 Exact where the relations are: the interfaces of a cycle closed by the tree are not asked again
 (a rigid motion satisfies them), and the point is checked independently afterwards

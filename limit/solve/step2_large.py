@@ -50,154 +50,81 @@ import numpy as np
 from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, piece_statics, rigid_clusters
 from limit.solve.nlp_problem import build
 
-#: relaxation of N* per dimension (see the module docstring), halved (down to OMEGA_MIN) each time
-#: the complementarity residual has not reached a new low for STALL LPs: at 3,052 2D blocks omega = 1
-#: oscillated (alpha 0.19 to 0.38 for 40 LPs) and 0.5 settled to a residual of 2e-3 in 37 LPs. A
-#: start whose residual has no new low for STALL LPs at OMEGA_MIN stops as stalled: its budget goes
-#: to the others (the 3,052-block wall's 0.5 mu start held its core for the whole 11 minutes)
+#: relaxation of N* per dimension, halved (down to OMEGA_MIN) whenever the complementarity residual
+#: has no new low for STALL LPs; a start with no new low for STALL LPs at OMEGA_MIN stops as stalled,
+#: so that its budget goes to the others
 OMEGA = {2: 1.0, 3: 0.5}
-#: ... and from ONE_ROUND_MIN_FREE free blocks on: 10,050 2D blocks oscillated at omega = 1 for its
-#: first 10 LPs (residual 0.15 to 1.5, alpha 0.15 to 0.44) before the stall rule halved it
+#: ... from ONE_ROUND_MIN_FREE free blocks on, where omega = 1 oscillates
 OMEGA_LARGE = 0.5
-#: (tried at 10,050 2D blocks, one start, and not kept: 0.25 from the start stalled at a residual of
-#: 0.05; Anderson acceleration of N* with a memory of 5 (Walker & Ni 2011) stalled at 0.12; a
-#: relaxation per friction row, halved where its residual changed sign, was no better than one)
-#: (tried and not kept: omega = 1 for one update once the residual had fallen by the
-#: factor 1 - omega at each of two LPs in a row, as it does near a fixed point of N* -> N: at 10,050
-#: 2D blocks the 0.4 mu start verified at 206 s instead of 218 s, 36 LPs instead of 41; but with
-#: the very large walls' settings forced onto running-bond walls of 6 to 36 blocks, 2 of the 3
-#: starts that had verified stalled)
+#: the smallest relaxation, and the LPs without a new low that halve it
 OMEGA_MIN = 0.125
 STALL = 8
-#: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension, from
-#: PROX_MIN_FREE free blocks on (None: none). Measured on the whole route, both starts, a 600 s
-#: budget, with a first LP of 20.6 s at 10,050 blocks: 10,050 2D blocks, without it neither start
-#: verified (one stalled at a residual of 8.4e-3, the other ran out of time); with 0.03 the 0.5 mu
-#: start verified 0.335865 at 457 s, with LPs of 5.6-7.5 s against 11.4 s (the QP's interior point
-#: converges in fewer iterations). 3,052 blocks: 88.2 s with it against 76.1 and 82.1 s without (the
-#: same 0.337984), hence the threshold. Weights 0.1 and 1 stalled at 10,050 blocks; at 1,008, 0.1
-#: took 10 LPs against 16
+#: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension from PROX_MIN_FREE
+#: free blocks on (None: none): it pulls the normal forces toward N*, so that the statics stop jumping
+#: across a degenerate optimal face
 PROX = {2: 0.03, 3: None}
 PROX_MIN_FREE = 5000
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
 #: ... and, from the best iterate so far, when the residual has had no new low for PLATEAU LPs
-#: while that low is below SNAP_PLATEAU (and below every earlier snap's): at 10,050 2D blocks the
-#: residual sat at 1.6e-3 to 2.4e-3 for 10 LPs and no snap was ever tried; at 3,052 it settled at 2e-3
+#: while that low is below SNAP_PLATEAU (and below every earlier snap's)
 SNAP_PLATEAU = 1e-2
 PLATEAU = 4
-#: (tried and not kept: a repair of a failed snap, rounds of an elastic statics LP, min alpha + M sum
-#: of the flowing faces' slacks, then the kinematics on the faces it closed, else the phase 1
-#: mechanism's support as the next guess; with the snap tried from a residual of 1e-2 or 2e-2. On
-#: saved iterates of the 3,052-block wall's 0.5 mu start it reached the verified 0.337984 from
-#: residuals of 1.2e-2 to 1.1e-3 in 1 to 4 rounds (3-27 s), but end to end that start verified in
-#: 45.8 s against about 28 s without it; at 10,050 blocks one round of Clarabel's elastic statics
-#: and phase 1 took over 130 s beside the other start, and the repair had not verified at the
-#: 500 s budget)
-#: the interior point method's tolerance while the complementarity residual is above FAR_COMP
-#: (the iterate is far from a collapse state, so an exact LP is wasted; None: ipm's default 1e-9).
-#: Measured per start, 2D wall of 1,008 blocks: 20.2 / 18.3 / 20.3 s at 1e-9 throughout, 9.0 / 9.2 /
-#: 8.1 s at 1e-4 (18-20 LPs instead of 31-37), the same verified alpha 0.341463; 314 blocks and the
-#: 3D 305- and 1,017-block walls: the same alphas as before (0.349206, 0.579105, best 0.553388)
+#: the interior point method's tolerance while the complementarity residual is above FAR_COMP (the
+#: iterate is far from a collapse state, so an exact LP is wasted; None: ipm's default 1e-9)
 LP_TOL_FAR = 1e-4
 FAR_COMP = 1e-2
-#: ... and below FAR_COMP, per dimension (None: ipm's default 1e-9): at 10,050 2D blocks an LP at
-#: 1e-9 failed to converge in 200 iterations (118 s) and ended its start; at 1e-7 the same start
-#: verified 0.335865 (the snap's piece LPs and the check are exact regardless). In 3D 1e-7 changed
-#: the path of the 3,024-block wall's first start: 0.526707 in 216 s instead of 0.525052 in 204 s
+#: ... and below FAR_COMP, per dimension (None: ipm's default 1e-9; the snap's piece LPs and the
+#: check are exact regardless)
 LP_TOL_NEAR = {2: 1e-7, 3: None}
-#: flowing-face rules of the snap, and whether the first one passing the check is kept: at scale
-#: "support" is the one that passes, and stopping there saves the second piece LP (4-5 s at
-#: 1,008 blocks)
+#: flowing-face rules of the snap, in order, and whether the first one passing the check is kept
 SNAP_RULES = ("support", "ratio", "least-slack")
 SNAP_FIRST = True
 #: the "least-slack" rule: the flowing faces are those of the mechanism closest to complementary
 #: with the iterate's statics (:func:`limit.solve.rigid_clusters.least_slack_flow`: least work on
 #: the faces' slacks), where its multiplier exceeds this fraction of the largest (the smaller
-#: multipliers are set to zero, and the independent check judges the compatibility left). It is tried
-#: after the others: where the statics' optimal face is degenerate (the iterate's normal forces
-#: keep moving at a settled alpha), the interior point's mechanism is a centre of its optimal face
-#: that flows on faces no statics can hold at their limit together ("support"), and "ratio" keeps
-#: too few faces for a mechanism
+#: multipliers are set to zero, and the independent check judges the compatibility left). It is
+#: tried last: where the statics' optimal face is degenerate (the normal forces keep moving at a
+#: settled alpha), "support" holds more faces at their limit than a statics can, and "ratio" keeps
+#: too few for a mechanism
 LEAST_SLACK_SUPPORT = 1e-6
-#: ... and from VERY_LARGE_MIN_FREE free blocks on: a snap is tried below a residual of
-#: SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first. A failed snap costs
-#: there 15-57 s of piece LPs against 5-7 s for one more LP. 10,050 2D blocks, the 0.5 mu start
-#: alone, its LPs as slow as in PROX's measurement: with the values above, snaps at residuals of
-#: 1.7e-3 and 3.9e-4 failed both rules and one at 3.6e-5 failed "support" (114 s in all) before
-#: "ratio" verified 0.335865, at 473 s from the start; with these, the same LPs and one snap,
-#: at 7.2e-5, verified the same alpha at 367 s. The residual is a sum over the faces, and the
-#: piece LP there had 1,574-1,961 flowing faces (at 3,052 blocks snaps at 1e-3 verify)
+#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS, a snap is tried below a residual
+#: of SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first: a failed snap costs
+#: there more than several LPs
 VERY_LARGE_MIN_FREE = 5000
-#: ... in these dimensions (measured in 2D only; the 3D bench walls stop at 3,024 blocks)
+#: ... in these dimensions (the 3D walls measured stop at about 3,000 blocks)
 VERY_LARGE_DIMS = (2,)
 SNAP_COMP_LARGE = 1e-4
 SNAP_PLATEAU_LARGE = 1e-3
 SNAP_RULES_LARGE = ("ratio", "support", "least-slack")
 #: LP backends of the snap's piece LPs, tried in turn until one gives a point that passes the
-#: check: at 3,052 blocks HiGHS failed both piece LPs ("Not Set", 25-35 s each) where Clarabel's
-#: interior point solved and verified the support rule's in 1.2 s. When a backend proves every
-#: rule's piece LP infeasible (the flowing faces guessed wrong), the next is not asked. "ipm": the
-#: statics on the structured interior point method (:mod:`limit.solve.piece_statics`), which
-#: proves nothing infeasible (it stops when its iterates diverge). On saved iterates of the
-#: 3,052-block 2D wall it gave Clarabel's alpha to 1e-11 in
-#: 1.6-2.1 s against 2.5-4.3 s, and in 0.2-0.4 s gave up on pieces Clarabel proved infeasible
+#: check; when a backend proves every rule's piece LP infeasible, the next is not asked. "ipm": the
+#: statics on the structured interior point method (:mod:`limit.solve.piece_statics`), which proves
+#: nothing infeasible (it stops when its iterates diverge)
 SNAP_BACKENDS = ("ipm", "clarabel", "highs")
 #: a piece whose interior point diverges (ipm.solve's ``mu_diverged``: "probably no feasible
-#: point") counts as infeasible, like a piece a backend proved infeasible: when every rule's piece
-#: did, no other backend is asked. At 10,050 2D blocks (0.4 mu start) a snap at a
-#: residual of 1.3e-5 diverged on both rules in 5.5 and 7.8 s, and Clarabel then proved both
-#: infeasible in 21.5 and 16.7 s; on the 4 x 4 walls of tests/test_piece_statics.py the
-#: interior point answered every piece the simplex solved above alpha = 0
+#: point") counts as infeasible, like a piece a backend proved infeasible
 SNAP_TRUST_DIVERGED = True
-#: LP backend of the snap's kinematics on rigid clusters. At 10,050 2D blocks the kinematics on
-#: every block dof took Clarabel 18.5 s per snap (cProfile); on the clusters it takes
-#: 0.1-1 s at 3,052 blocks. HiGHS is as fast on the small ones (3 to 90 cluster unknowns) but on
-#: the "support" rule's large flowing sets (7,000-8,000 faces, 900-1,800 cluster unknowns) it
-#: ended after 6-58 s with an unrecognised status where Clarabel solved in 0.4-1 s
+#: LP backend of the snap's kinematics on rigid clusters (and of the least-slack mechanism)
 KINEMATICS_BACKEND = "clarabel"
 #: outer iterations (LPs) per start
 MAX_ITER = 100
 #: friction factors of the starts (1 = the associative LP itself)
 START_FACTORS = (1.0, 0.5, 0.25)
-#: ... and from VERY_LARGE_MIN_FREE free blocks on. 10,050 2D blocks, one start alone each, with the
-#: snap settings of VERY_LARGE_MIN_FREE, its LPs as slow as in PROX's measurement: 0.5 verified
-#: 0.335865 at 367 s (41 LPs), 0.4 the same at 427 s (48 LPs); 0.25 and 0.6 stalled at residuals of
-#: 4.7e-3 and 1.1e-2. The associative LP's own start never verified there in four runs (stalled at
-#: 8.4e-3 and 9.3e-3, or 600 s spent): beside 0.5 it held its core to the end of the budget
+#: ... from VERY_LARGE_MIN_FREE free blocks on, where the associative LP's own start stalls
 START_FACTORS_LARGE = (0.5, 0.4)
-#: ... and from ONE_ROUND_MIN_FREE free blocks on in 3D, where the associative LP's own start was
-#: the slowest and not the lowest (running-bond walls, mu 0.9): 1,017 blocks, the LP's
-#: start 0.560176 in 67 LPs, 0.5 mu 0.553388 in 34, 0.25 mu 0.552063 in 31; 3,024 blocks, the LP's
-#: 0.527754 in 87 LPs (428 s), 0.5 mu 0.526630 in 44, 0.25 mu 0.525765 in 52
+#: ... from ONE_ROUND_MIN_FREE free blocks on in 3D, where the associative LP's own start is the
+#: slowest and not the lowest
 START_FACTORS_ONE_ROUND_3D = (0.5, 0.25, 1.0)
-#: from this many free blocks on, only as many starts as there are workers (the first factors):
-#: a start that waits for a core never gets one within the budget (10,050 blocks, 2 cores: the
-#: third start did not begin in 600 s); at 3,052 blocks all three starts verified the same alpha
+#: from this many free blocks on, only as many starts as there are workers (the first factors): a
+#: start that waits for a core would not get one within the budget
 ONE_ROUND_MIN_FREE = 2000
 #: ... and there, in these dimensions, each LP starts from the last one's point (iterative_lp's
-#: ``warm_start``; with it 21-34 interior point iterations per LP instead of 31-40 at 3,052 2D
-#: blocks, 1-2 s instead of 5-10 s per LP once near a collapse state at 10,050): 10,050 2D blocks
-#: verified 0.335865 by both starts in 533 s with it (the first after 356 s), by one in 524 s
-#: without; a 3D wall of 3,024 blocks did worse with it (with 1e-7 near a collapse state too:
-#: 0.527463 by one start at the 600 s budget, against 0.525052 in 204 s without either)
+#: ``warm_start``)
 WARM_START_DIMS = (2,)
 #: once a start has verified at t (s from the route's start), the others stop at t x (1 + GRACE):
-#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS only, where the starts race and the
-#: first verified one ends the route. In 2D every start that verified gave the same alpha
-#: (10,050 blocks: 0.335865 from both starts in each of four runs with both verified; 3,052
-#: blocks: 0.337984; 1,008 blocks: 0.341463 from all three), and a grace long enough for the
-#: second start was never short: at 10,050 blocks it verified 46 % to 56 % of the first one's
-#: time later (0.4 mu at 218 and 221 s, 0.5 mu at 319 and 339 s), so a grace of 0.25 stopped it
-#: unverified in each of four runs and cost a quarter of the route. With 0: 222 s (0.4 mu
-#: verified at 200 s, 34 LPs) where
-#: 0.25 gave 279-299 s with the same 34 LPs; but with OPENBLAS_NUM_THREADS=1 (as ``make bench``
-#: sets it) the 0.4 mu start's path takes 41 LPs and 2 snaps (rounding outside the interior point
-#: method steers it) and the route took 290 and 298 s either way; with SNAP_TRUST_DIVERGED as well,
-#: 258 and 264 s (41 LPs), and 227 s without the thread limit (34 LPs). Not in 3D: there the
-#: starts' alphas differ, and stopping the other starts 25 % of its time after the first one
-#: verified kept the 3,024-block wall's 0.530657 (the start that verified first, 130 s) and lost
-#: the 0.525052 that the other reaches at about 200 s
+#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS only, where every start that verifies
+#: gives the same alpha; not in 3D, where the starts' alphas differ
 GRACE = 0.0
 
 
