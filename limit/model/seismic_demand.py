@@ -175,7 +175,6 @@ def from_mapping(d: dict, where: str = "demand") -> Demand:
     S, TB, TC or TD overrides the derived value, and ``Demand.site`` records both. Keys that are
     not a Demand's (the scene loader has warned about them already, or rejected them under
     ``--strict``) are ignored. Raises ValueError naming the key (``where``.key)."""
-    from limit.errors import SceneError
     from limit.model.site_spectrum import site_parameters
 
     names = {f.name for f in fields(Demand)} - {"site"}
@@ -187,11 +186,8 @@ def from_mapping(d: dict, where: str = "demand") -> Demand:
             if k not in d:
                 raise ValueError(f"{where}.{k}: required with the site's soil and topography (NTC 2018 3.2.3.2.1: "
                                  "ag_g, F0 and Tc_star of the limit state)")
-        try:
-            par = site_parameters(d["ag_g"], d["F0"], d["Tc_star"], d.get("soil", "A"), d.get("topography", "T1"),
-                                  d.get("topography_ratio", 1.0), where)
-        except SceneError as exc:
-            raise ValueError(str(exc)) from None
+        par = site_parameters(d["ag_g"], d["F0"], d["Tc_star"], d.get("soil", "A"), d.get("topography", "T1"),
+                              d.get("topography_ratio", 1.0), where)  # its SceneError is a ValueError
         given = {k: kw[k] for k in DERIVED_KEYS if k in kw}
         kw = {**{k: par[k] for k in DERIVED_KEYS}, **kw}
         kw["site"] = {"code": "NTC 2018 3.2.3.2.1", "Tc_star": float(d["Tc_star"]), "soil": d.get("soil", "A"),
