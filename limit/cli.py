@@ -1,5 +1,5 @@
-"""Command line: ``limit info|solve|check|sweep SCENE.json [--json OUT.json]``, ``limit import FILE... -o SCENE.json``
-and ``limit build KIND ... -o SCENE.json`` (or ``python -m limit``).
+"""Command line: ``limit info|solve|check|sweep SCENE.json [--json OUT.json]``, ``limit import FILE... -o SCENE.json``,
+``limit build KIND ... -o SCENE.json`` and ``limit report SCENE.json -o DIR`` (or ``python -m limit``).
 
 Exit status (docs/formats.md, 'Commands'): 0 success, 2 rejected input (one line on
 stderr, no traceback), 1 any other failure, 130 interrupted.
@@ -111,6 +111,9 @@ def _parser() -> argparse.ArgumentParser:
     pim = sub.add_parser("import", help="write a scene from CAD or mesh files (OBJ, STL, PLY, DXF)")
     from scenes.importers.command import add_arguments as import_arguments
     import_arguments(pim)
+    from reports.scene_report import parser as report_parser
+
+    report_parser(sub.add_parser("report", help="one scene's HTML report: limit analysis, DEM engines, mechanism"))
     pb = sub.add_parser("build", help="write a scene of a generated structure (arch, wall, vault, dome)")
     from scenes.generators.command import add_arguments as build_arguments
     build_arguments(pb)
@@ -257,8 +260,14 @@ def cmd_info(args) -> int:
     return 0
 
 
+def cmd_report(args) -> int:
+    from reports.scene_report import run
+
+    return run(args)
+
+
 COMMANDS = {"info": cmd_info, "solve": cmd_solve, "check": cmd_check, "sweep": cmd_sweep, "import": cmd_import,
-            "build": cmd_build}
+            "build": cmd_build, "report": cmd_report}
 
 
 def _one_line_warnings() -> None:

@@ -9,12 +9,11 @@ A failed stage is shown as failed, in red, never dropped.
 from __future__ import annotations
 
 import datetime as _dt
-import html
 import json
 import math
 from pathlib import Path
 
-from . import plots, verdict, worst_direction
+from . import plots, verdict, view3d, worst_direction
 
 FAIL = {"failed"}
 
@@ -202,56 +201,23 @@ def _finite(v) -> bool:
     return v is not None and isinstance(v, (int, float)) and math.isfinite(v)
 
 
-CSS = """
-body { font-family: -apple-system, Segoe UI, Helvetica, Arial, sans-serif; margin: 24px auto; max-width: 1200px;
-       color: #222; line-height: 1.45; }
-table { border-collapse: collapse; font-size: 13px; margin: 8px 0 16px; }
-th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: right; }
-th { background: #f0f0f0; } td.name { text-align: left; }
-td.failed, span.failed { background: #f8d7da; color: #8b0000; font-weight: bold; }
-td.ok { background: #e6f4ea; } td.warn { background: #fff3cd; }
-section { border-top: 2px solid #ddd; margin-top: 24px; padding-top: 8px; }
-img { max-width: 100%; border: 1px solid #eee; }
-.meta { color: #666; font-size: 12px; }
-"""
-
-
 def _cls(status):
     return "failed" if status in FAIL else ""
 
 
 def report(df, files, results: dict, out: Path, wall_time: float | None = None) -> None:
-    from limit.model.scene import load_scene
-
+    """The catalog page: ``index.html`` (template ``catalog.html``, plotly's script shared in
+    ``plotly.min.js``) and ``index.md``, with the figures under ``figures/`` and the blocks and
+    motions for ParaView under ``vtk/``."""
     out = Path(out)
     figs = out / "figures"
     figs.mkdir(parents=True, exist_ok=True)
     plots.alpha_chart(df, figs / "alpha.png")
     plots.time_error(df, figs / "time_error.png")
     by_name = {json.loads(Path(p).read_text()).get("name", Path(p).stem): Path(p) for p in files}
-    from .vtk import motions_of, write_vtk
-
-    mech_png, cap_png = {}, {}
-    for name, path in by_name.items():
-        la, dem = results.get((name, "la")), results.get((name, "dem"))
-        if not la:
-            continue
-        try:
-            scene = load_scene(path)
-            write_vtk(scene, motions_of({**la, "dem": dem or {}}), out / "vtk" / f"{name}.vtk")
-            if plots.mechanism_figure(scene, la, dem, figs / f"{name}.png"):
-                mech_png[name] = f"figures/{name}.png"
-            row = df[df["name"] == name]
-            la_alpha = float(row["fric_alpha"].iloc[0]) if len(row) and row["fric_alpha"].iloc[0] is not None else None
-            if la_alpha is None or not math.isfinite(la_alpha):
-                la_alpha = float(row["lp_alpha"].iloc[0]) if len(row) and _finite(row["lp_alpha"].iloc[0]) else None
-            lm = results.get((name, "lmgc")) or {}
-            kin = verdict.kinematic_curve(scene, la)
-            if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name, lmgc=lm, kinematic=kin):
-                cap_png[name] = f"figures/{name}-capacity.png"
-        except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is noted, not fatal
-            mech_png[name] = None
-            print(f"report: no figure for {name}: {exc}")
+    scenes = [_scene_figures(name, path, df, results, out) for name, path in by_name.items()]
+    mech_png = {s["name"]: s["mech_png"] for s in scenes if s["mech_png"] or s["mech_failed"]}
+    cap_png = {s["name"]: s["cap_png"] for s in scenes if s["cap_png"]}
     stamp = _dt.datetime.now().strftime("%Y-%m-%d %H:%M")
     from .table import contradictions_markdown
 
@@ -264,8 +230,167 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
         example += worst_direction.section(results, by_name, figs)
     except Exception as exc:  # noqa: BLE001 - noted, never fatal
         example += [f"Worst load direction: the section could not be made ({type(exc).__name__}: {exc})."]
-    (out / "index.html").write_text(_html(df, mech_png, stamp, wall_time, cap_png, example))
+    rows = {r["name"]: r for _, r in df.iterrows()}
+    for s in scenes:
+        r = rows.get(s["name"])
+        s.update(explain=explain(r) if r is not None else [], subtitle=_subtitle(r))
+    script = view3d.script_tag(out / "plotly.min.js") if any(s["views"] for s in scenes) else ""
+    (out / "index.html").write_text(catalog_html(df, scenes, stamp, wall_time, example, script))
     (out / "index.md").write_text(_markdown(df, mech_png, stamp, wall_time, cap_png, example))
+
+
+def catalog_html(df, scenes=(), stamp: str = "", wall_time: float | None = None, example=(), script: str = "") -> str:
+    """The catalog page: the summary, the table, the overview, ``example`` (markdown lines) and
+    one section per scene of ``scenes`` (:func:`_scene_figures` with ``explain`` and ``subtitle``)."""
+    return render("catalog.html", title=TITLE, stamp=stamp, wall_time=wall_time, legend=LEGEND, plotly_script=script,
+                  summary=summary_lines(df), head=HEAD, rows=_rows(df), blocks=md_blocks(example), scenes=list(scenes))
+
+
+TITLE = "Collapse of block masonry: limit analysis against DEM"
+LEGEND = ("LP: associative limit analysis (step 1); NLP: frictional, non-associative (step 2); MILP: global "
+          "frictional minimum (small scenes); DEM: YADE pushover extrapolated to rigid contacts; LMGC90: rigid "
+          "contacts. Errors are relative to the reference; 'DEM vs LA' relative to the frictional limit analysis. "
+          "Blocks and mechanisms for ParaView: vtk/<scene>.vtk; the table: results.csv, results.parquet.")
+#: the interactive view is drawn for scenes of up to this many blocks (larger ones: the static figures)
+VIEW_MAX_BLOCKS = 2000
+
+
+def render(template: str, **context) -> str:
+    """A page from the Jinja2 templates in ``reports/templates`` (autoescaped)."""
+    import jinja2
+
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(Path(__file__).resolve().parent / "templates"),
+                             autoescape=jinja2.select_autoescape(["html"]), undefined=jinja2.StrictUndefined)
+    return env.get_template(template).render(**context)
+
+
+def md_blocks(lines) -> list[dict]:
+    """Markdown lines ('## ' headings, '- ' items, '![alt](src)' images, text) as the blocks of
+    the template ``blocks.html``."""
+    out = []
+    for line in lines:
+        if line.startswith("## "):
+            out.append({"kind": "h2", "text": line[3:]})
+        elif line.startswith("- "):
+            out.append({"kind": "item", "text": line[2:].replace("**", "")})
+        elif line.startswith("![") and "](" in line and line.endswith(")"):
+            alt, src = line[2:-1].split("](", 1)
+            out.append({"kind": "img", "text": alt, "src": src})
+        elif line:
+            out.append({"kind": "p", "text": line.replace("**", "")})
+    return out
+
+
+def _subtitle(r) -> str:
+    if r is None:
+        return ""
+    return f"{r['title'] or ''} {r['figure'] or ''}".strip()
+
+
+def _rows(df) -> list[list[dict]]:
+    """The table's cells ({"text", "cls"}) of every scene."""
+    status_cols = {6: "lp_status", 7: "nlp_status", 8: "global_status", 9: "dem_status", 17: "lmgc_status"}
+    return [[{"text": c, "cls": "name" if k == 0 else _cls(r.get(status_cols[k])) if k in status_cols else ""}
+             for k, c in enumerate(_cells(r))] for _, r in df.iterrows()]
+
+
+def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: bool = True) -> dict:
+    """One scene's figures: the VTK file, the mechanism and pushover PNGs, the interactive views
+    (plotly divs, script not included); a figure that cannot be drawn is noted, never fatal."""
+    from limit.model.scene import load_scene
+
+    from .vtk import motions_of, write_vtk
+
+    s = {"name": name, "mech_png": None, "mech_failed": False, "cap_png": None, "views": [], "blocks": []}
+    la, dem = results.get((name, "la")), results.get((name, "dem"))
+    if not la:
+        return s
+    figs = out / "figures"
+    figs.mkdir(parents=True, exist_ok=True)
+    lm = results.get((name, "lmgc")) or {}
+    try:
+        scene = load_scene(path)
+        write_vtk(scene, motions_of({**la, "dem": dem or {}, "lmgc": lm}), out / "vtk" / f"{name}.vtk")
+        if plots.mechanism_figure(scene, la, dem, figs / f"{name}.png"):
+            s["mech_png"] = f"figures/{name}.png"
+        row = df[df["name"] == name]
+        la_alpha = float(row["fric_alpha"].iloc[0]) if len(row) and row["fric_alpha"].iloc[0] is not None else None
+        if la_alpha is None or not math.isfinite(la_alpha):
+            la_alpha = float(row["lp_alpha"].iloc[0]) if len(row) and _finite(row["lp_alpha"].iloc[0]) else None
+        kin = verdict.kinematic_curve(scene, la)
+        if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name, lmgc=lm, kinematic=kin):
+            s["cap_png"] = f"figures/{name}-capacity.png"
+        if views and len(scene.blocks) <= VIEW_MAX_BLOCKS:
+            s["views"] = view3d.divs(scene, la, {"YADE": dem, "LMGC90": lm}, include_js=False)
+    except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is noted, not fatal
+        s["mech_failed"] = s["mech_png"] is None
+        print(f"report: no figure for {name}: {exc}")
+    return s
+
+
+def scene_summary(r) -> list[str]:
+    """The opening lines of one scene's page (a results row, :func:`reports.table.row`): the
+    LP, step 2 (and in 3D the same with the engines' near-circular cone), and each engine's
+    alpha against the bracket [frictional alpha, LP]."""
+    def stage(alpha, status, reason, t):
+        if _finite(alpha) and status in ("optimal", "skipped"):
+            return f"alpha = {alpha:.6g} ({status}{'' if not _finite(t) else f', {t:.2f} s'})"
+        return f"{status or 'not run'}" + (f": {reason}" if reason else "")
+
+    out = [f"Associative LP (step 1, an upper bound): {stage(r['lp_alpha'], r['lp_status'], r['lp_reason'], r['lp_time_s'])}.",
+           f"Frictional limit analysis (step 2, the answer): "
+           f"{stage(r['fric_alpha'], r['nlp_status'] if r['nlp_status'] != 'failed' or _finite(r['fric_alpha']) else 'failed', r['nlp_reason'], r['nlp_time_s'])}."]
+    if r["dim"] == 3 and _finite(r.get("cone_lp_alpha")):
+        out.append(f"With the near-circular friction cone of the dynamic engines: LP {_num(r.get('cone_lp_alpha'), '.6g')}, "
+                   f"step 2 {_num(r.get('cone_alpha'), '.6g')}.")
+    for engine, col in (("YADE", "dem"), ("LMGC90", "lmgc")):
+        st = r.get(f"{col}_status")
+        if not isinstance(st, str):
+            continue
+        if st == "collapsed" and _finite(r.get(f"{col}_alpha")):
+            u = r.get(f"{col}_uncertainty")
+            br = r.get(f"{col}_bracket")
+            out.append(f"{engine}: collapses at alpha = {r[f'{col}_alpha']:.4g}" + (f" +/- {u:.2g}" if _finite(u) else "")
+                       + (f", {_pct(r.get(f'{col}_vs_la'))} from the frictional limit analysis" if _finite(r.get(f"{col}_vs_la")) else "")
+                       + (f"; {br}: outside the bracket [frictional alpha, LP] that theory gives" if br
+                          else "; inside the bracket [frictional alpha, LP]") + ".")
+        else:
+            out.append(f"{engine}: {st}" + (f" ({r.get(f'{col}_reason')})" if r.get(f"{col}_reason") else "") + ".")
+    return out
+
+
+def summary_lines(df) -> list[str]:
+    """The page's opening lines: how many scenes agree with their reference within its tolerance,
+    and each dynamic engine against the bracket [frictional minimum, LP] (which fall below, which
+    above: dem_validation.bracket)."""
+    n = len(df)
+    out = []
+    ref = df[[_finite(v) for v in df["ref_alpha"]]] if n else df
+    if len(ref):
+        ok = [bool(v) for v in ref["within_ref"]]
+        bad = [f"{r['name']} ({_pct(r['nlp_err'])})" for (_, r), good in zip(ref.iterrows(), ok) if not good]
+        out.append(f"Limit analysis: {sum(ok)} of {len(ref)} scenes with a reference agree with it within its "
+                   "tolerance" + (f"; the others: {', '.join(bad)}." if bad else "."))
+    for engine, col in (("YADE", "dem"), ("LMGC90", "lmgc")):
+        if f"{col}_status" not in df:
+            continue
+        ran = df[[s == "collapsed" and _finite(a) for s, a in zip(df[f"{col}_status"], df[f"{col}_alpha"])]]
+        if not len(ran):
+            continue
+        low = [r["name"] for _, r in ran.iterrows() if r.get(f"{col}_bracket") == "suspect low"]
+        high = [r["name"] for _, r in ran.iterrows() if r.get(f"{col}_bracket") == "suspect high"]
+        line = (f"{engine}: {len(ran) - len(low) - len(high)} of {len(ran)} collapses lie inside the bracket "
+                "[frictional limit analysis, LP] (theory: no rigid-block collapse below the first, none needs more "
+                "than the second)")
+        if low:
+            line += f"; below it: {', '.join(low)}"
+        if high:
+            line += f"; above it: {', '.join(high)}"
+        out.append(line + ".")
+        skipped = [r["name"] for _, r in df.iterrows() if r.get(f"{col}_status") in ("skipped", "failed")]
+        if skipped:
+            out[-1] += f" Not run or failed: {', '.join(skipped)}."
+    return out
 
 
 HEAD = ["scene", "dim", "blocks", "joints", "reference", "published", "LP", "NLP", "MILP", "DEM", "LP err", "NLP err",
@@ -297,61 +422,6 @@ def _cells(r):
             _flag(st(r.get("lmgc_alpha"), r.get("lmgc_status")), r.get("lmgc_bracket"))
             if isinstance(r.get("lmgc_status"), str) else "–",
             _pct(r.get("lmgc_vs_la")), _num(r.get("lmgc_time_s"), ".0f")]
-
-
-def _html(df, mech_png, stamp, wall_time, cap_png=None, example=()):
-    cap_png = cap_png or {}
-    e = html.escape
-    h = [f"<!doctype html><html><head><meta charset='utf-8'><title>Masonry collapse: validation report</title>"
-         f"<style>{CSS}</style></head><body>",
-         "<h1>Collapse of block masonry: limit analysis against DEM</h1>",
-         f"<p class='meta'>{stamp}; {len(df)} scenes" + (f"; run time {wall_time:.0f} s" if wall_time else "")
-         + ". LP: associative limit analysis (step 1); NLP: frictional, non-associative (step 2); MILP: global "
-         "frictional minimum (small scenes); DEM: YADE pushover extrapolated to rigid contacts. Errors are "
-         "relative to the reference; 'DEM vs LA' relative to the frictional limit analysis. Blocks and "
-         "mechanisms for ParaView: <code>vtk/&lt;scene&gt;.vtk</code>; the table: <code>results.csv</code>, "
-         "<code>results.parquet</code>.</p>",
-         "<table><tr>" + "".join(f"<th>{c}</th>" for c in HEAD) + "</tr>"]
-    status_cols = {6: "lp_status", 7: "nlp_status", 8: "global_status", 9: "dem_status", 17: "lmgc_status"}
-    for _, r in df.iterrows():
-        cells = _cells(r)
-        row = []
-        for k, c in enumerate(cells):
-            cls = "name" if k == 0 else _cls(r.get(status_cols[k])) if k in status_cols else ""
-            if k == 0:
-                c = f"<a href='#{e(c)}'>{e(c)}</a>"
-            else:
-                c = e(c)
-            row.append(f"<td class='{cls}'>{c}</td>")
-        h.append("<tr>" + "".join(row) + "</tr>")
-    h.append("</table>")
-    h.append("<h2>Overview</h2><img src='figures/alpha.png' alt='alpha per scene'>"
-             "<img src='figures/time_error.png' alt='run time against error'>")
-    for line in example:  # markdown lines: '## ' headings, '- ' items, text
-        if line.startswith("## "):
-            h.append(f"<h2>{e(line[3:])}</h2>")
-        elif line.startswith("- "):
-            h.append(f"<p>&bull; {e(line[2:]).replace('**', '')}</p>")
-        elif line.startswith("![") and "](" in line and line.endswith(")"):  # an image
-            alt, src = line[2:-1].split("](", 1)
-            h.append(f"<img src='{e(src)}' alt='{e(alt)}'>")
-        elif line:
-            h.append(f"<p>{e(line)}</p>")
-    for _, r in df.iterrows():
-        h.append(f"<section id='{e(r['name'])}'><h2>{e(r['name'])}</h2>")
-        if r["title"] or r["figure"]:
-            h.append(f"<p class='meta'>{e(str(r['title']))} {e(str(r['figure']))}</p>")
-        h.append("<ul>" + "".join(f"<li>{e(s)}</li>" for s in explain(r)) + "</ul>")
-        png = mech_png.get(r["name"])
-        if png:
-            h.append(f"<img src='{png}' alt='mechanisms of {e(r['name'])}'>")
-        elif r["name"] in mech_png:
-            h.append("<p><span class='failed'>figure could not be drawn</span></p>")
-        if cap_png.get(r["name"]):
-            h.append(f"<img src='{cap_png[r['name']]}' alt='DEM pushover curve of {e(r['name'])}'>")
-        h.append("</section>")
-    h.append("</body></html>")
-    return "\n".join(h)
 
 
 def _markdown(df, mech_png, stamp, wall_time, cap_png=None, example=()):

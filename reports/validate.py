@@ -209,20 +209,15 @@ def main(argv=None) -> int:
             print(f"error: unknown scene(s): {', '.join(sorted(missing))}", file=sys.stderr)
             return 2
     stages = ["la", "cone", "sweep"] + ([] if args.no_dem else ["dem"] + ([] if args.no_lmgc else ["lmgc"]))
-    cache = Cache(args.cache)
     t0 = time.perf_counter()
-    done, todo = plan(files, stages, cache, args.fresh, lmgc_all=args.lmgc_all)
-    print(f"validate: {len(files)} scenes, {len(done)} stage results cached, {len(todo)} to run", file=sys.stderr)
     try:
-        done.update(execute(todo, cache, args.jobs, args.scheduler, progress=not args.no_progress, known=done))
+        done, df = collect(files, stages, Cache(args.cache), fresh=args.fresh, jobs=args.jobs,
+                           scheduler=args.scheduler, progress=not args.no_progress, lmgc_all=args.lmgc_all)
     except KeyboardInterrupt:
         print("validate: interrupted; finished stages are cached, rerun to resume", file=sys.stderr)
         return 130
-    from . import dem_starts, render, table
+    from . import render, table
 
-    starts = {} if args.no_dem else dem_starts.run(files, done, progress=not args.no_progress)
-    df = table.results_table(files, done, with_dem=not args.no_dem, with_lmgc=not (args.no_lmgc or args.no_dem),
-                             dem_start=starts)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     table.write(df, out)
@@ -234,6 +229,24 @@ def main(argv=None) -> int:
     for name, stage, why in bad:
         print(f"validate: FAILED {name} {stage}: {why}", file=sys.stderr)
     return 1 if bad else 0
+
+
+def collect(files, stages, cache: Cache, *, fresh: bool = False, jobs: int | None = None,
+            scheduler: str | None = None, progress: bool = True, lmgc_all: bool = False, log: str = "validate"):
+    """(done, df): every stage result of the scene ``files`` ({(scene, stage): result}, from the
+    cache or run now through :func:`execute`), the DEM starts of the contradictions
+    (:mod:`reports.dem_starts`) and the results table (:func:`reports.table.results_table`).
+    ``stages``: names of :data:`reports.stages.STAGES`; the DEM columns are filled for the
+    engines among them. Raises KeyboardInterrupt as it comes (finished stages are cached)."""
+    from . import dem_starts, table
+
+    done, todo = plan(files, stages, cache, fresh, lmgc_all=lmgc_all)
+    print(f"{log}: {len(files)} scene(s), {len(done)} stage results cached, {len(todo)} to run", file=sys.stderr)
+    done.update(execute(todo, cache, jobs, scheduler, progress=progress, known=done))
+    with_dem, with_lmgc = "dem" in stages, "lmgc" in stages
+    starts = dem_starts.run(files, done, progress=progress) if with_dem or with_lmgc else {}
+    df = table.results_table(files, done, with_dem=with_dem, with_lmgc=with_lmgc, dem_start=starts)
+    return done, df
 
 
 def failures(done: dict) -> list[tuple[str, str, str]]:

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Make a fresh Debian 12 machine ready: the Debian packages the project needs
-# (python3-venv, yade) and a virtual environment with the pinned Python packages
+# (python3-venv, yade, chromium) and a virtual environment with the pinned Python packages
 # (versions: constraints.txt; ranges and groups: pyproject.toml).
 # Idempotent: reruns only install what is missing or what pyproject.toml or constraints.txt changed.
 set -euo pipefail
@@ -23,6 +23,8 @@ apt_install() {
 if ! command -v "$PYTHON" >/dev/null; then apt_install python3; fi
 if ! "$PYTHON" -c 'import venv, ensurepip' 2>/dev/null; then apt_install python3-venv; fi
 if ! command -v yade >/dev/null; then apt_install yade; fi
+# headless Chromium: the test suite opens the report pages in a real browser
+if ! command -v chromium >/dev/null; then apt_install chromium; fi
 
 stamp="$VENV/.installed"
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ] || [ constraints.txt -nt "$stamp" ]; then

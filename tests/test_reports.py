@@ -78,7 +78,7 @@ def test_report_shows_every_scene_and_its_numbers(run):
     html = (tmp / "out" / "index.html").read_text()
     md = (tmp / "out" / "index.md").read_text()
     for _, r in df.iterrows():
-        assert f"id='{r['name']}'" in html and f"## {r['name']}" in md
+        assert f'id="{r["name"]}"' in html and f"## {r['name']}" in md
         assert format(r.lp_alpha, ".4g") in html
         assert format(r.lp_alpha, ".4g") in md
 
@@ -108,7 +108,7 @@ def test_dem_fault_is_failed_in_red_and_not_cached(run):
     assert set(ran.dem_status) == {"failed"}
     assert all("yade" in str(x).lower() for x in ran.dem_reason)
     html = (tmp / "out" / "index.html").read_text()
-    assert len(re.findall(r"<td class='failed'>failed</td>", html)) == len(ran)
+    assert len(re.findall(r'<td class="failed">failed</td>', html)) == len(ran)
     assert "**failed**" in (tmp / "out" / "index.md").read_text()
     # failures are retried next time, never cached
     assert not list((tmp / "cache").glob("dem/*.json"))
@@ -148,8 +148,8 @@ def test_failed_lp_is_red():
            "lp_err": float("nan"), "nlp_err": float("nan"), "dem_vs_la": float("nan"), "lp_time_s": 0.1,
            "nlp_time_s": None, "dem_time_s": 10.0, "mech_similarity": float("nan"), "mech_kind": "lp"}
     df = pd.DataFrame([row])
-    html = render._html(df, {}, "now", None)
-    assert "<td class='failed'>failed</td>" in html
+    html = render.catalog_html(df, stamp="now")
+    assert '<td class="failed">failed</td>' in html
     assert any("The LP failed: boom" in s for s in render.explain(df.iloc[0]))
 
 
