@@ -152,10 +152,11 @@ def test_report_with_both_engines_3d(tmp_path):
     assert p.returncode == 0, p.stderr
     page = (out / "my-block-3d.html").read_text()
     for engine in ("YADE", "LMGC90"):
-        m = re.search(engine + r": collapses at alpha = ([0-9.]+)", page)
+        m = re.search(engine + r": collapses at alpha = ([0-9.]+)", page)  # in the summary
         assert m, engine
         assert float(m.group(1)) == pytest.approx(0.3, rel=0.03)
         assert f"{engine} at collapse" in page  # its motion in the interactive view
-    assert "suspect" not in page.split("<table>")[0]
+    summary = re.search(r'<div class="summary">(.*?)</div>', page, re.S).group(1)
+    assert summary.count("inside the bracket") == 2 and "suspect" not in summary
     df = __import__("pandas").read_csv(out / "results.csv")
     assert np.isfinite(df.dem_alpha[0]) and np.isfinite(df.lmgc_alpha[0])
