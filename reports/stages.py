@@ -138,7 +138,7 @@ def run_dem(path: str, options: dict) -> dict:
         from dem_validation import run_scene
 
         res = run_scene(path, timeout_s=options["timeout_s"], cpu_limit_s=options.get("cpu_limit_s"),
-                        **options["knobs"])
+                        progress=options.get("progress"), **options["knobs"])
     except Exception as exc:  # noqa: BLE001 - a fault is a result, never a crash of the run
         res = {"status": "failed", "alpha": None, "reason": f"{type(exc).__name__}: {exc}"}
     res.setdefault("time_s", time.perf_counter() - t0)
@@ -193,7 +193,7 @@ def run_lmgc(path: str, options: dict) -> dict:
             except Exception:  # noqa: BLE001 - no guess: the search starts from step0
                 hint = None
         res = run_loaded_lmgc90(scene, options["knobs"], timeout_s=options["timeout_s"], hint=hint,
-                                cpu_limit_s=options.get("cpu_limit_s"))
+                                cpu_limit_s=options.get("cpu_limit_s"), progress=options.get("progress"))
     except Exception as exc:  # noqa: BLE001 - a fault is a result, never a crash of the run
         res = {"status": "failed", "alpha": None, "reason": f"{type(exc).__name__}: {exc}", "engine": "lmgc90"}
     res.setdefault("time_s", time.perf_counter() - t0)

@@ -74,30 +74,41 @@ def dem_cost(data: dict) -> float:
                      for b in data.get("blocks", []) if not b.get("fixed")))
 
 
+#: CPU seconds per vertex sphere of an unmeasured DEM stage: the median of cost_s / :func:`dem_cost`
+#: over the catalog scenes with a measured cost (YADE 16 scenes, quartiles 0.27-1.1; LMGC90 14
+#: scenes, quartiles 0.11-0.24)
+DEM_S_PER_SPHERE = {"dem": 0.45, "lmgc": 0.14}
+
+
 def stage_cost(stage: str, data: dict) -> float:
     """Expected CPU seconds of a stage: the measured ``meta.<stage>.cost_s`` of the scene where
     scenes/catalog.py recorded one (``dem``: YADE, ``lmgc``: LMGC90), else an estimate from
-    its size (the DEM's vertex spheres; a limit analysis 0.1 s per free block in 2D, 0.5 s in
-    3D). Measured costs matter: by size alone the 17-block Fig. 5 (5 minutes of YADE) started
-    25 minutes into the run and ended it 80 s after everything else."""
+    its size (the DEM's vertex spheres x :data:`DEM_S_PER_SPHERE`; a limit analysis 0.1 s per
+    free block in 2D, 0.5 s in 3D). Measured costs matter: by size alone the 17-block Fig. 5
+    (5 minutes of YADE) started 25 minutes into the run and ended it 80 s after everything else."""
     cost = ((data.get("meta") or {}).get(stage) or {}).get("cost_s")
     if cost is not None:
         return float(cost)
     if stage in ("dem", "lmgc"):
-        return dem_cost(data)
+        return DEM_S_PER_SPHERE[stage] * dem_cost(data)
     n_free = sum(1 for b in data.get("blocks", []) if not b.get("fixed"))
     return (0.1 if data.get("dim") == 2 else 0.5) * n_free
 
 
-def _run_task(stage, data, opts, la=None):
-    """One stage; ``la``: the scene's ``la`` result, whose alpha is the LMGC90 search's guess."""
+def _run_task(stage, data, opts, la=None, progress_file=None):
+    """One stage; ``la``: the scene's ``la`` result, whose alpha is the LMGC90 search's guess;
+    ``progress_file``: where the engine's latest progress record goes (:mod:`reports.progress`)."""
     if la is not None:
         opts = {**opts, "hint": guess_from(la)}
+    if progress_file is not None and stage in ("dem", "lmgc"):
+        from .progress import StageProgress
+
+        opts = {**opts, "progress": StageProgress(progress_file)}
     return STAGES[stage][1](data, opts)
 
 
 def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progress=True,
-            known: dict | None = None) -> dict:
+            known: dict | None = None, log: str = "validate") -> dict:
     """Run the stages through Dask; store each result in the cache as it arrives. A scene's
     LMGC90 stage takes its first guess from the scene's ``la`` result: a cached one in
     ``known`` ((name, stage) -> result), else it waits for that stage (started at once if
@@ -111,6 +122,12 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
 
     from limit.dask_pool import dask_client
 
+    import tempfile
+
+    from . import progress as prog
+
+    # the engines' progress records go through files: only where the workers share this machine
+    folder = tempfile.TemporaryDirectory(prefix="validate-progress-") if scheduler is None else None
     with dask_client(jobs, scheduler) as client:
         futures = {}
         # Longest first, over every stage, the short ones filling the cores at the end. Stages are
@@ -124,8 +141,10 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
 
         def submit(task, ac, la=None):
             stage, name, k, data, opts = task
-            f = client.submit(_run_task, stage, data, opts, la, key=f"{stage}-{name}-{k}", pure=False)
+            f = client.submit(_run_task, stage, data, opts, la,
+                              prog.path_for(folder and folder.name, stage, name), key=f"{stage}-{name}-{k}", pure=False)
             futures[f] = (stage, name, k)
+            board.start(stage, name, stage_cost(stage, data))
             if stage == "la":
                 la_futures[name] = f
             if ac is not None:
@@ -153,13 +172,17 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
                 submit(own, ac)
             submit(task, ac, la=la_futures[name])
 
+        bar = tqdm(total=len(todo), unit="stage", disable=not progress, file=sys.stderr,
+                   bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}] {postfix}")
+        board = prog.Board(folder and folder.name, slots, bar.set_postfix_str if progress else (lambda _: None),
+                           queued_cost=sum(stage_cost(t[0], t[3]) for t in queue))
         for _ in range(slots):
             submit_next()
-        bar = tqdm(total=len(todo), unit="stage", disable=not progress, file=sys.stderr)
         ac = as_completed(list(futures))
         for f in ac:
-            submit_next(ac)
             stage, name, k = futures[f]
+            board.finish(stage, name)
+            submit_next(ac)
             try:
                 res = f.result()
             except Exception as exc:  # a worker lost: recorded as a failure, the run goes on
@@ -173,13 +196,28 @@ def execute(todo, cache: Cache, jobs: int | None, scheduler: str | None, progres
                     kept = f"full result: {cache.put_failed(stage, name, k, res)}"
                 except OSError as exc:  # a diagnostic copy must not stop the run
                     kept = f"full result not kept: {exc}"
-                tqdm.write(f"validate: {name} {stage} failed: {_reason(stage, res)} ({kept})", file=sys.stderr)
+                tqdm.write(f"{log}: {name} {stage} failed: {_reason(stage, res)} ({kept})", file=sys.stderr)
             results[(name, stage)] = res
             status = _parts(stage, res)[0].get("status")
-            bar.set_postfix_str(f"{name} {stage}: {status}")
+            if progress:
+                tqdm.write(f"{log}: done {name} {stage}: {status}"
+                           + (f" alpha {_alpha(stage, res):.4g}" if _alpha(stage, res) is not None else ""),
+                           file=sys.stderr)
+            bar.set_postfix_str(board.line())
             bar.update(1)
+        board.close()
         bar.close()
+    if folder is not None:
+        folder.cleanup()
     return results
+
+
+def _alpha(stage: str, res: dict):
+    """The stage's headline alpha: the engine's, or step 2's (the LP's where step 2 has none)."""
+    for part in (_parts(stage, res)[::-1] if stage in ("la", "cone") else _parts(stage, res)):
+        if isinstance(part.get("alpha"), (int, float)):
+            return float(part["alpha"])
+    return None
 
 
 def main(argv=None) -> int:
@@ -242,7 +280,7 @@ def collect(files, stages, cache: Cache, *, fresh: bool = False, jobs: int | Non
 
     done, todo = plan(files, stages, cache, fresh, lmgc_all=lmgc_all)
     print(f"{log}: {len(files)} scene(s), {len(done)} stage results cached, {len(todo)} to run", file=sys.stderr)
-    done.update(execute(todo, cache, jobs, scheduler, progress=progress, known=done))
+    done.update(execute(todo, cache, jobs, scheduler, progress=progress, known=done, log=log))
     with_dem, with_lmgc = "dem" in stages, "lmgc" in stages
     starts = dem_starts.run(files, done, progress=progress) if with_dem or with_lmgc else {}
     df = table.results_table(files, done, with_dem=with_dem, with_lmgc=with_lmgc, dem_start=starts)

@@ -1,0 +1,59 @@
+"""The status line of long runs (reports/progress.py): the running stages with the engines' own
+progress records, and the time left from the stages' costs."""
+import time
+
+import pytest
+
+from reports import progress as prog
+
+
+def test_time_left_comes_from_the_costs_not_the_rate(tmp_path):
+    """Two slots, 600 s queued, two stages of 100 s and 300 s just started: (600 + 100 + 300) / 2
+    = 500 s left, whatever the rate so far (no stage has finished)."""
+    board = prog.Board(tmp_path, slots=2, show=lambda _: None, queued_cost=1000.0)
+    try:
+        board.start("dem", "wall", 100.0)
+        board.start("lmgc", "wall", 300.0)
+        assert board.queued == pytest.approx(600.0)
+        assert board.eta() == pytest.approx(500.0, abs=1.0)
+        board.finish("dem", "wall")
+        assert board.eta() == pytest.approx(450.0, abs=1.0)
+    finally:
+        board.close()
+
+
+def test_a_stage_past_its_estimate_keeps_a_tenth_of_it():
+    board = prog.Board(None, slots=1, show=lambda _: None)
+    try:
+        board.start("dem", "slow", 1.0)
+        board.running[("dem", "slow")] = (time.monotonic() - 50.0, 10.0)  # started 50 s ago, cost 10 s
+        assert board.eta() == pytest.approx(1.0)
+    finally:
+        board.close()
+
+
+def test_the_line_shows_each_engines_latest_record(tmp_path):
+    board = prog.Board(tmp_path, slots=2, show=lambda _: None)
+    try:
+        board.start("dem", "fig6", 300.0)
+        board.start("lmgc", "arch", 60.0)
+        yade = prog.StageProgress(prog.path_for(tmp_path, "dem", "fig6"))
+        yade({"eps": 1e-5, "alpha": 0.34681, "step": 123456, "residual": 1e-3})
+        yade({"eps": 1e-5, "alpha": 0.35, "step": 123457, "residual": 1e-3})  # within REFRESH_S: not written
+        prog.StageProgress(prog.path_for(tmp_path, "lmgc", "arch"))(
+            {"phase": "bisect", "alpha": 0.1333, "outcome": "collapsed", "step": 900})
+        line = board.line()
+    finally:
+        board.close()
+    assert "fig6 dem" in line and "(eps 1e-05 alpha 0.3468 step 123k)" in line
+    assert "arch lmgc" in line and "(bisect alpha 0.1333 collapsed step 900)" in line
+    assert line.endswith("left") and "about" in line
+
+
+def test_the_line_is_shown_while_stages_run(tmp_path):
+    shown = []
+    board = prog.Board(tmp_path, slots=1, show=shown.append)
+    board.start("la", "dome", 5.0)
+    time.sleep(2.5 * prog.REFRESH_S)
+    board.close()
+    assert shown and all("dome la" in s for s in shown)
