@@ -294,9 +294,10 @@ def _rows(df) -> list[list[dict]]:
              for k, c in enumerate(_cells(r))] for _, r in df.iterrows()]
 
 
-def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: bool = True) -> dict:
+def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: bool = True, scene=None) -> dict:
     """One scene's figures: the VTK file, the mechanism and pushover PNGs, the interactive views
-    (plotly divs, script not included); a figure that cannot be drawn is noted, never fatal."""
+    (plotly divs, script not included); a figure that cannot be drawn is noted, never fatal.
+    ``scene``: the file's loaded scene where the caller has it."""
     from limit.model.scene import load_scene
 
     from .vtk import motions_of, write_vtk
@@ -309,7 +310,7 @@ def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: b
     figs.mkdir(parents=True, exist_ok=True)
     lm = results.get((name, "lmgc")) or {}
     try:
-        scene = load_scene(path)
+        scene = scene if scene is not None else load_scene(path)
         write_vtk(scene, motions_of({**la, "dem": dem or {}, "lmgc": lm}), out / "vtk" / f"{name}.vtk")
         if plots.mechanism_figure(scene, la, dem, figs / f"{name}.png"):
             s["mech_png"] = f"figures/{name}.png"

@@ -54,7 +54,7 @@ def run(args) -> int:
     t0 = time.perf_counter()
     src = Path(args.scene)
     data = read_json(src)
-    load_scene(data)  # a rejected scene stops here, with its reason (exit 2)
+    scene = load_scene(data)  # a rejected scene stops here, with its reason (exit 2)
     name = data.get("name", src.stem)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -69,11 +69,11 @@ def run(args) -> int:
         path.write_text(json.dumps(data, indent=1))
     stages = ["la", "cone", "sweep"] + DEM_STAGES[args.dem]
     done, df = collect([path], stages, Cache(args.cache), fresh=args.fresh, jobs=args.jobs,
-                       progress=not args.no_progress, log="report")
+                       progress=not args.no_progress, log="report", scenes={name: scene})
     from . import table
 
     table.write(df, out)
-    page = scene_page(df, path, done, out, wall_time=time.perf_counter() - t0)
+    page = scene_page(df, path, done, out, wall_time=time.perf_counter() - t0, scene=scene)
     bad = failures(done)
     for line in render.scene_summary(df.iloc[0]):
         print(f"report: {line}", file=sys.stderr)
@@ -85,8 +85,9 @@ def run(args) -> int:
     return 1 if bad else 0
 
 
-def scene_page(df, path: Path, results: dict, out: Path, wall_time: float | None = None) -> Path:
-    """Write ``<scene>.html`` and ``<scene>.md`` into ``out``; returns the HTML path."""
+def scene_page(df, path: Path, results: dict, out: Path, wall_time: float | None = None, scene=None) -> Path:
+    """Write ``<scene>.html`` and ``<scene>.md`` into ``out``; returns the HTML path. ``scene``: the
+    file's loaded scene, where the caller has it."""
     from limit.model.scene import read_json
 
     from . import render, verdict, view3d, worst_direction
@@ -94,7 +95,7 @@ def scene_page(df, path: Path, results: dict, out: Path, wall_time: float | None
     data = read_json(path)
     name = data.get("name", Path(path).stem)
     r = df.iloc[0]
-    s = render._scene_figures(name, Path(path), df, results, out)
+    s = render._scene_figures(name, Path(path), df, results, out, scene=scene)
     s.update(explain=render.explain(r), subtitle=render._subtitle(r))
     lines = []
     la = results.get((name, "la")) or {}

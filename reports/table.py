@@ -105,7 +105,9 @@ def dem_model_text(dem: dict) -> str:
 
 
 def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None, cone: dict | None = None,
-        dem_start: list | None = None) -> dict:
+        dem_start: list | None = None, scene=None) -> dict:
+    """One scene's row of the results table; ``scene``: the file's loaded scene, when the caller
+    has it (loading a scene of many parts takes seconds)."""
     from limit.model.scene import load_scene
 
     from .dem_starts import adopted_alpha
@@ -188,7 +190,7 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     mech, kind = la_mechanism(la)
     r["mech_kind"] = kind
     try:
-        scene = load_scene(data)
+        scene = scene if scene is not None else load_scene(data)
         r["mech_similarity"] = similarity(scene, mech, dem.get("displacement"))
         r["lmgc_similarity"] = similarity(scene, mech, lm.get("displacement"))
     except Exception:  # noqa: BLE001 - a rejected scene has no mechanism to compare
@@ -197,15 +199,16 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
 
 
 def results_table(files, results: dict, with_dem: bool = True, with_lmgc: bool = False,
-                  dem_start: dict | None = None) -> pd.DataFrame:
+                  dem_start: dict | None = None, scenes: dict | None = None) -> pd.DataFrame:
     """One row per scene file from the stage ``results`` ({(scene, stage): result}) and the DEM
-    starts ({scene: entries}, :func:`reports.dem_starts.run`)."""
+    starts ({scene: entries}, :func:`reports.dem_starts.run`); ``scenes``: {name: loaded scene}
+    of those already loaded."""
     rows = []
     for path in files:
         name = json.loads(Path(path).read_text()).get("name", Path(path).stem)
         rows.append(row(Path(path), results.get((name, "la")), results.get((name, "dem")) if with_dem else None,
                         results.get((name, "lmgc")) if with_lmgc else None, results.get((name, "cone")),
-                        (dem_start or {}).get(name)))
+                        (dem_start or {}).get(name), (scenes or {}).get(name)))
     return pd.DataFrame(rows)
 
 

@@ -270,12 +270,14 @@ def main(argv=None) -> int:
 
 
 def collect(files, stages, cache: Cache, *, fresh: bool = False, jobs: int | None = None,
-            scheduler: str | None = None, progress: bool = True, lmgc_all: bool = False, log: str = "validate"):
+            scheduler: str | None = None, progress: bool = True, lmgc_all: bool = False, log: str = "validate",
+            scenes: dict | None = None):
     """(done, df): every stage result of the scene ``files`` ({(scene, stage): result}, from the
     cache or run now through :func:`execute`), the DEM starts of the contradictions
     (:mod:`reports.dem_starts`) and the results table (:func:`reports.table.results_table`).
     ``stages``: names of :data:`reports.stages.STAGES`; the DEM columns are filled for the
-    engines among them. Raises KeyboardInterrupt as it comes (finished stages are cached)."""
+    engines among them; ``scenes``: {name: loaded scene} of those the caller has loaded. Raises
+    KeyboardInterrupt as it comes (finished stages are cached)."""
     from . import dem_starts, table
 
     done, todo = plan(files, stages, cache, fresh, lmgc_all=lmgc_all)
@@ -283,7 +285,7 @@ def collect(files, stages, cache: Cache, *, fresh: bool = False, jobs: int | Non
     done.update(execute(todo, cache, jobs, scheduler, progress=progress, known=done, log=log))
     with_dem, with_lmgc = "dem" in stages, "lmgc" in stages
     starts = dem_starts.run(files, done, progress=progress) if with_dem or with_lmgc else {}
-    df = table.results_table(files, done, with_dem=with_dem, with_lmgc=with_lmgc, dem_start=starts)
+    df = table.results_table(files, done, with_dem=with_dem, with_lmgc=with_lmgc, dem_start=starts, scenes=scenes)
     return done, df
 
 

@@ -21,8 +21,9 @@ from limit.model.dims import rigid_velocity
 
 #: the largest vertex motion at full amplitude, as a fraction of the structure's size
 AMPLIFY = 0.08
-#: animation frames from rest to full amplitude
-FRAMES = 11
+#: animation frames from rest to full amplitude (each carries every moving corner: the page's
+#: size grows with it; 6 frames of the 399-block free-form vault are 2.9 MB)
+FRAMES = 6
 #: colour classes of a 2D figure (one filled trace each)
 BINS_2D = 6
 #: live-load arrows are drawn on at most this many blocks (the largest forces)
@@ -67,19 +68,24 @@ def _triangles(piece) -> tuple[np.ndarray, np.ndarray]:
     return V, np.asarray(tri, dtype=int).reshape(-1, 3)
 
 
-def _mesh(pieces, motions=None, t=0.0):
-    """Concatenated (x, y, z, i, j, k, vertex magnitude) of ``pieces`` moved by t x motions."""
-    xs, tris, mags, off = [], [], [], 0
+def _mesh(pieces, motions=None):
+    """(vertices (n, 3), triangles (m, 3), vertex motion (n, 3)) of ``pieces`` concatenated
+    (motion zero where ``motions`` is None)."""
+    xs, tris, ds, off = [], [], [], 0
     for n, (_, p) in enumerate(pieces):
         V, T = _triangles(p)
-        d = motions[n] if motions is not None else np.zeros_like(V)
-        xs.append(V + t * d)
+        xs.append(V)
         tris.append(T + off)
-        mags.append(np.linalg.norm(d, axis=1))
+        ds.append(motions[n] if motions is not None else np.zeros_like(V))
         off += len(V)
-    X = np.vstack(xs) if xs else np.zeros((0, 3))
-    T = np.vstack(tris) if tris else np.zeros((0, 3), dtype=int)
-    return X, T, (np.concatenate(mags) if mags else np.zeros(0))
+    if not xs:
+        return np.zeros((0, 3)), np.zeros((0, 3), dtype=int), np.zeros((0, 3))
+    return np.vstack(xs), np.vstack(tris), np.vstack(ds)
+
+
+def _f32(a):
+    """Coordinates for the page: single precision (plotly writes them as base64 typed arrays)."""
+    return np.asarray(a, dtype=np.float32)
 
 
 def _joints(scene, ifaces: dict | None) -> list[tuple[str, np.ndarray]]:
@@ -166,28 +172,33 @@ def figure(scene, per_block: dict, title: str, ifaces: dict | None = None):
 
 
 def _traces3d(go, pieces, still, motions, amps, joints, LP, LV):
-    """(initial traces, per-frame traces): the moving mesh first (the only trace the frames update)."""
-    def moving(t):
-        X, T, mag = _mesh(pieces, motions, t)
-        return go.Mesh3d(x=X[:, 0], y=X[:, 1], z=X[:, 2], i=T[:, 0], j=T[:, 1], k=T[:, 2], intensity=mag,
-                         colorscale=COLORSCALE, cmin=0.0, cmax=float(mag.max()) if mag.size else 1.0,
-                         colorbar={"title": "motion", "len": 0.6}, flatshading=True, name="blocks that move",
-                         showlegend=True, hoverinfo="skip")
-
+    """(initial traces, per-frame traces): the moving mesh first, the only trace the frames update
+    (its corners only: the triangles and colours stay)."""
+    X, T, D = _mesh(pieces, motions)
+    mag = np.linalg.norm(D, axis=1)
+    Y = X + amps[-1] * D
+    data = [go.Mesh3d(x=_f32(Y[:, 0]), y=_f32(Y[:, 1]), z=_f32(Y[:, 2]), i=T[:, 0], j=T[:, 1], k=T[:, 2],
+                      intensity=_f32(mag), colorscale=COLORSCALE, cmin=0.0,
+                      cmax=float(mag.max()) if mag.size else 1.0, colorbar={"title": "motion", "len": 0.6},
+                      flatshading=True, name="blocks that move", showlegend=True, hoverinfo="skip")]
     Xs, Ts, _ = _mesh(still)
-    data = [moving(amps[-1]), go.Mesh3d(x=Xs[:, 0], y=Xs[:, 1], z=Xs[:, 2], i=Ts[:, 0], j=Ts[:, 1], k=Ts[:, 2],
-                                        color="#aaaaaa", opacity=0.35, flatshading=True, name="fixed or still",
-                                        showlegend=True, hoverinfo="skip")]
+    data.append(go.Mesh3d(x=_f32(Xs[:, 0]), y=_f32(Xs[:, 1]), z=_f32(Xs[:, 2]), i=Ts[:, 0], j=Ts[:, 1], k=Ts[:, 2],
+                          color="#aaaaaa", opacity=0.35, flatshading=True, name="fixed or still", showlegend=True,
+                          hoverinfo="skip"))
     for state, P in joints:
         label, color = JOINT_STYLE[state]
-        data.append(go.Scatter3d(x=P[:, 0], y=P[:, 1], z=P[:, 2], mode="markers", name=f"joint {label}",
-                                 marker={"size": 4, "color": color}))
+        data.append(go.Scatter3d(x=_f32(P[:, 0]), y=_f32(P[:, 1]), z=_f32(P[:, 2]), mode="markers",
+                                 name=f"joint {label}", marker={"size": 4, "color": color}))
     if len(LP):
         data.append(go.Cone(x=LP[:, 0], y=LP[:, 1], z=LP[:, 2], u=LV[:, 0], v=LV[:, 1], w=LV[:, 2],
                             anchor="tail", sizemode="absolute", sizeref=float(np.linalg.norm(LV, axis=1).max()) * 0.4,
                             colorscale=[[0, "#e67e22"], [1, "#e67e22"]], showscale=False, name="live load",
                             showlegend=True, hoverinfo="skip"))
-    return data, [[moving(t)] for t in amps]
+    frames = []
+    for t in amps:
+        Y = X + t * D
+        frames.append([go.Mesh3d(x=_f32(Y[:, 0]), y=_f32(Y[:, 1]), z=_f32(Y[:, 2]))])
+    return data, frames
 
 
 def _traces2d(go, pieces, still, motions, amps, joints, LP, LV):
