@@ -300,7 +300,7 @@ def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: b
     ``scene``: the file's loaded scene where the caller has it."""
     from limit.model.scene import load_scene
 
-    from .vtk import motions_of, write_vtk
+    from .vtk import joints_path, motions_of, write_joints_vtk, write_vtk
 
     s = {"name": name, "mech_png": None, "mech_failed": False, "cap_png": None, "views": [], "blocks": []}
     la, dem = results.get((name, "la")), results.get((name, "dem"))
@@ -311,7 +311,9 @@ def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: b
     lm = results.get((name, "lmgc")) or {}
     try:
         scene = scene if scene is not None else load_scene(path)
-        write_vtk(scene, motions_of({**la, "dem": dem or {}, "lmgc": lm}), out / "vtk" / f"{name}.vtk")
+        vtk = out / "vtk" / f"{name}.vtk"
+        write_vtk(scene, motions_of({**la, "dem": dem or {}, "lmgc": lm}), vtk)
+        write_joints_vtk(scene, la, joints_path(vtk))
         if plots.mechanism_figure(scene, la, dem, figs / f"{name}.png"):
             s["mech_png"] = f"figures/{name}.png"
         row = df[df["name"] == name]

@@ -466,3 +466,44 @@ def test_time_error_figure_for_scenes_without_a_reference(tmp_path):
     path = tmp_path / "time_error.png"
     plots.time_error(pd.DataFrame(cols), path)
     assert path.stat().st_size > 0
+
+
+def test_vtk_keeps_every_engine_and_carries_ids_loads_and_joint_states(tmp_path):
+    """Two DEM result files (YADE's and LMGC90's) give two displacement fields, neither lost; the
+    cells carry the block ids, the points each block's loads (the 0.3 x 1.0 m 2D block of 2000
+    kg/m^3 weighs 0.3 x 1.0 x 1 m x 2000 x 9.81 = 5886 N, its live load along +x the same at
+    alpha = 1), and the joints file the LP's state of the one joint (the block rocks: state 1)."""
+    from limit.model.scene import load_scene
+    from reports import vtk
+    from scenes import builders as B
+
+    scene_d = B.single_block(dim=2, b=0.3, h=1.0, name="blk")
+    (tmp_path / "s.json").write_text(json.dumps(scene_d))
+    bid = next(b["id"] for b in scene_d["blocks"] if not b.get("fixed"))
+    lp = {"lp": {"status": "optimal", "alpha": 0.3, "mechanism": {bid: [1.0, 0.0, 0.0]},
+                 "interfaces": {"rock": [0], "open": [], "slide": [], "twist": []}}}
+    ya = {"dem": {"status": "collapsed", "engine": "yade", "displacement": {bid: [0.01, 0.0, -0.02]}}}
+    lm = {"dem": {"status": "collapsed", "engine": "lmgc90", "displacement": {bid: [0.02, 0.0, -0.03]}}}
+    files = []
+    for k, d in enumerate((lp, ya, lm)):
+        files.append(tmp_path / f"r{k}.json")
+        files[-1].write_text(json.dumps(d))
+    assert vtk.main([str(tmp_path / "s.json"), *map(str, files), "-o", str(tmp_path / "o.vtk")]) == 0
+    text = (tmp_path / "o.vtk").read_text()
+    for field in ("lp_mechanism", "yade_displacement", "lmgc90_displacement", "dead_load", "live_load"):
+        assert f"VECTORS {field} double" in text, field
+    n_cells = int(re.search(r"POLYGONS (\d+)", text).group(1))
+    ids = text.split("block_id 1 ")[1].splitlines()
+    assert int(ids[0].split()[0]) == n_cells and set(ids[1:1 + n_cells]) == {b["id"] for b in scene_d["blocks"]}
+    s = load_scene(scene_d)
+    free = next(b for b in s.blocks if not b.fixed)
+    block = text.split("VECTORS dead_load double\n")[1].splitlines()
+    k = [i for i, b in enumerate(s.blocks) if not b.fixed][0]
+    first = sum(len(b.pieces[0].vertices) for b in s.blocks[:k])
+    assert [float(x) for x in block[first].split()] == pytest.approx([0.0, -5886.0, 0.0], rel=1e-9)
+    live = text.split("VECTORS live_load double\n")[1].splitlines()
+    assert [float(x) for x in live[first].split()] == pytest.approx([5886.0, 0.0, 0.0], rel=1e-9)
+    assert free.id == bid
+    joints = (tmp_path / "o-joints.vtk").read_text()
+    assert "LINES 1 3" in joints and "SCALARS lp_state int 1\nLOOKUP_TABLE default\n1\n" in joints
+    assert "SCALARS nlp_state int 1\nLOOKUP_TABLE default\n0\n" in joints
