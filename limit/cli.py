@@ -32,7 +32,8 @@ def _parser() -> argparse.ArgumentParser:
     ps.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
                     help="lp: associative bound only; nlp: LP then the frictional NLP; auto (default): NLP only where needed")
     ps.add_argument("--json", metavar="OUT.json", help="write the result file (docs/formats.md)")
-    ps.add_argument("--plot", metavar="OUT.png", help="draw the mechanism: the collapse mechanisms, or for a scene "
+    ps.add_argument("--plot", metavar="OUT.png|DIR", help="draw the mechanism (into a folder also as an interactive "
+                                                         "page): the collapse mechanisms, or for a scene "
                                                      "that collapses under its dead load, the dead-load mechanism")
     ps.add_argument("--solver", choices=LP_SOLVERS, default="auto",
                     help="LP solver (default auto: the structured interior point method 'ipm' from 3,000 "
@@ -241,8 +242,11 @@ def cmd_solve(args) -> int:
     if args.plot:
         from limit.results.mechanism_plot import plot_mechanism
 
-        if not plot_mechanism(scene, public(res), args.plot):
+        written = plot_mechanism(scene, public(res), args.plot)
+        if not written:
             print(f"no mechanism to draw: {args.plot} not written", file=sys.stderr)
+        for path in written:
+            print(f"wrote {path}", file=sys.stderr)
     failed = res["lp"]["status"] == "failed" or res.get("nlp", {}).get("status") == "failed"
     return 1 if failed else 0
 

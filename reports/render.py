@@ -405,6 +405,15 @@ def _flag(text: str, bracket) -> str:
     return f"{text} ({bracket})" if isinstance(bracket, str) and bracket else text
 
 
+def _vs_la(r, col: str) -> str:
+    """An engine's alpha against the frictional limit analysis, with the half-width of its own
+    bisection bracket: '+0.50 % ± 0.50 %' says that the rigid-block answer is inside it."""
+    v, u, f = r.get(f"{col}_vs_la"), r.get(f"{col}_uncertainty"), r.get("fric_alpha")
+    if _finite(v) and _finite(u) and _finite(f) and f:
+        return f"{_pct(v)} ± {100 * u / f:.2f} %"
+    return _pct(v)
+
+
 def _cells(r):
     def st(alpha, status):
         if status in FAIL:
@@ -420,11 +429,11 @@ def _cells(r):
             _num(r.get("pub_alpha")),
             st(r["lp_alpha"], r["lp_status"]), st(r["nlp_alpha"], r["nlp_status"]),
             st(r["global_alpha"], r["global_status"]), _flag(st(r["dem_alpha"], r["dem_status"]), r.get("dem_bracket")),
-            _pct(r["lp_err"]), _pct(r["nlp_err"]), _pct(r["dem_vs_la"]), _num(r["lp_time_s"], ".2f"),
+            _pct(r["lp_err"]), _pct(r["nlp_err"]), _vs_la(r, "dem"), _num(r["lp_time_s"], ".2f"),
             _num(r["nlp_time_s"], ".2f"), _num(r["dem_time_s"], ".0f"), _num(r["mech_similarity"], ".2f"),
             _flag(st(r.get("lmgc_alpha"), r.get("lmgc_status")), r.get("lmgc_bracket"))
             if isinstance(r.get("lmgc_status"), str) else "–",
-            _pct(r.get("lmgc_vs_la")), _num(r.get("lmgc_time_s"), ".0f")]
+            _vs_la(r, "lmgc"), _num(r.get("lmgc_time_s"), ".0f")]
 
 
 def _markdown(df, mech_png, stamp, wall_time, cap_png=None, example=()):

@@ -257,7 +257,8 @@ def motions(la: dict | None, engines: dict) -> list[tuple[str, dict, dict | None
     displacement at collapse (``engines``: {label: DEM result})."""
     la = la or {}
     out = []
-    nlp, lp, dead = la.get("nlp") or {}, la.get("lp") or {}, la.get("dead_load_mechanism") or {}
+    nlp, lp = la.get("nlp") or {}, la.get("lp") or {}
+    dead = lp.get("dead_load_mechanism") or {}
     if nlp.get("mechanism") and nlp.get("status") == "optimal":
         out.append((f"limit analysis, frictional (step 2): alpha = {nlp['alpha']:.4g}", nlp["mechanism"],
                     nlp.get("interfaces") or lp.get("interfaces")))

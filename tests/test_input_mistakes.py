@@ -248,3 +248,14 @@ def test_the_direction_sweep_reads_a_direction_that_does_no_work_as_no_mechanism
     out = sweep(data, 90.0, jobs=1, frictional=False)
     status = dict(zip(out["theta"], out["status"]))
     assert status[90.0] == "unbounded" and status[270.0] == "unbounded" and status[0.0] == "optimal"
+
+
+def test_solve_plots_into_a_folder_with_the_interactive_view(tmp_path, write_scene, capsys):
+    """--plot DIR writes the PNG and the interactive page, for the dead-load mechanism too (one
+    figure, of the block that falls)."""
+    out = tmp_path / "figs"
+    assert main(["solve", str(write_scene(_overhang())), "--method", "lp", "--plot", str(out) + "/"]) == 0
+    pages = list(out.glob("*-mechanism.html"))
+    assert len(pages) == 1 and (out / pages[0].name.replace(".html", ".png")).exists()
+    page = pages[0].read_text()
+    assert page.count('class="plotly-graph-div"') == 1 and "collapse under the dead load alone" in page
