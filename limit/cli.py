@@ -109,6 +109,9 @@ def _parser() -> argparse.ArgumentParser:
     pw.add_argument("--scheduler", default=os.environ.get("DASK_SCHEDULER_ADDRESS"),
                     help="address of an existing Dask scheduler (default: a local cluster)")
     pw.add_argument("--json", metavar="OUT.json", help="write alpha(theta) as JSON")
+    pw.add_argument("--frictional", action="store_true",
+                    help="step 2 at every direction too (default: at the LP's minimum only): the frictional worst direction")
+    pw.add_argument("--plot", metavar="OUT.png", help="draw alpha(theta) as a polar plot")
     pim = sub.add_parser("import", help="write a scene from CAD or mesh files (OBJ, STL, PLY, DXF)")
     from scenes.importers.command import add_arguments as import_arguments
     import_arguments(pim)
@@ -183,7 +186,8 @@ def cmd_sweep(args) -> int:
         raise SceneError("dim: the direction sweep is for 3D scenes")
     try:
         out = sweep(data, args.step, mirror=True if args.mirror else None, jobs=args.jobs, scheduler=args.scheduler,
-                    progress=lambda k, n: print(f"\r{k}/{n} directions", end="", file=sys.stderr, flush=True))
+                    progress=lambda k, n: print(f"\r{k}/{n} directions", end="", file=sys.stderr, flush=True),
+                    every=args.frictional)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
     print(file=sys.stderr)
@@ -192,9 +196,29 @@ def cmd_sweep(args) -> int:
     where = "" if d is None else f", live direction {format_direction(d, 4)}"
     print(f"minimum LP alpha {out['min_alpha']:.6g} at {out['min_theta']:g} deg (0 = the scene's live direction{where}); "
           f"frictional there: {nlp.get('alpha')} ({nlp.get('status')}); {out['time_s']:.1f} s")
+    if args.frictional:
+        if out.get("min_theta_frictional") is None:
+            print("frictional: no direction has a verified step 2 point")
+        else:
+            print(f"minimum frictional alpha {out['min_alpha_frictional']:.6g} at {out['min_theta_frictional']:g} deg"
+                  + ("" if out.get("min_direction_frictional") is None else
+                     f", live direction {format_direction(out['min_direction_frictional'], 4)}")
+                  + (" (not the LP's worst direction)" if _worse_elsewhere(out) else ""))
     if args.json:  # reports.plots.direction_polar draws it
         jsonio.write_json(args.json, out)
+    if args.plot:
+        from reports.plots import direction_polar
+
+        direction_polar(out, args.plot, data.get("name", ""))
+        print(f"wrote {args.plot}", file=sys.stderr)
     return 0
+
+
+def _worse_elsewhere(out: dict, rtol: float = 1e-6) -> bool:
+    """Whether the frictional minimum of a sweep lies below step 2's alpha in the LP's worst direction."""
+    k = out["theta"].index(out["min_theta"]) if out.get("min_theta") is not None else None
+    there = out["alpha_frictional"][k] if k is not None else float("nan")
+    return not there <= out["min_alpha_frictional"] * (1.0 + rtol)
 
 
 def cmd_solve(args) -> int:

@@ -1,5 +1,6 @@
 """The worst horizontal direction of the live load of a 3D scene: alpha(theta) from the
-associative LP over a sweep of directions, and the frictional step 2 at the minimum.
+associative LP over a sweep of directions, and the frictional step 2 at the minimum (or, with
+``every``, at every direction: the frictional worst direction).
 
 theta (degrees) is measured in the horizontal plane (normal to gravity) from the scene's
 own live direction, counter-clockwise seen from above; the live load must be body forces
@@ -65,25 +66,33 @@ def format_direction(d, digits: int = 3) -> str:
     return "(" + ", ".join(f"{c:.{digits}f}" for c in d) + ")"
 
 
-def _lp_alpha(args) -> tuple[float, str, float | None, float]:
+def _lp_alpha(args) -> tuple:
+    """(theta, LP status, LP alpha, seconds, step 2's status, step 2's alpha) of one direction;
+    step 2 (method "auto": skipped where the LP's mechanism is frictional already) only when the
+    third of ``args`` asks for it, else its two entries are None."""
     from limit.analysis import analyse
     from limit.model.scene import load_scene
 
     from limit.model.load_checks import NoLiveWork
 
-    data, theta = args
+    data, theta = args[:2]
+    frictional = len(args) > 2 and args[2]
     t0 = time.perf_counter()
     try:
         scene = load_scene(_turn(data, theta))
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
-        return theta, "unbounded", None, time.perf_counter() - t0
-    res = analyse(scene, method="lp")
-    lp = res.get("lp") or {}
-    return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0
+        return theta, "unbounded", None, time.perf_counter() - t0, None, None
+    res = analyse(scene, method="auto" if frictional else "lp",
+                  nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None)
+    lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
+    if not frictional:
+        return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, None, None
+    fric = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None
+    return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, nlp.get("status"), fric
 
 
 def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs: int | None = None,
-          scheduler: str | None = None, frictional: bool = True, progress=None) -> dict:
+          scheduler: str | None = None, frictional: bool = True, progress=None, every: bool = False) -> dict:
     """alpha(theta) of the scene dict ``data`` (3D) every ``step_deg`` over 360 degrees;
     returns {"theta" (deg), "alpha" (LP, NaN where not optimal), "status", "min_theta",
     "min_alpha" (LP), "min_nlp" (the analysis at the minimum: "lp", "nlp" (step 2 where it
@@ -94,7 +103,13 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     axes)}. ``progress(done, total)`` is called as directions finish. ``mirror`` None: as
     the scene declares (``"symmetry": "mirror"``); a mirror symmetry, declared or asked for,
     is checked first
-    (:func:`limit.verdict.symmetry.check_mirror`: ValueError naming a block without its image)."""
+    (:func:`limit.verdict.symmetry.check_mirror`: ValueError naming a block without its image).
+
+    ``every``: step 2 runs at every direction too, not only at the LP's minimum (the frictional
+    alpha can lie anywhere below the LP's, so the LP's worst direction need not be the frictional
+    one); the result then also has "alpha_frictional" (NaN where step 2 has no verified point),
+    "status_frictional", "min_theta_frictional", "min_alpha_frictional" and "min_frictional" (the
+    analysis at the frictional minimum, with the code check there, like "min_nlp")."""
     if data.get("dim") != 3:
         raise ValueError("dim: the direction sweep is for 3D scenes (a 2D scene's load direction is +/- x)")
     if not (0 < step_deg <= 180):
@@ -114,14 +129,14 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     got = {}
 
     def record(out):
-        th, st, a, dt = out
-        got[th] = (st, a, dt)
+        th, st, a, dt, fst, fa = out
+        got[th] = (st, a, dt, fst, fa)
         if progress:
             progress(len(got), len(todo))
         return dt
 
     for t in todo[:2]:  # in this process: the second times one direction (the first pays the imports)
-        dt = record(_lp_alpha((data, float(t))))
+        dt = record(_lp_alpha((data, float(t), every)))
     rest = todo[2:]
     parallel = bool(scheduler) or (bool(rest) and jobs > 1 and dt * len(rest) * (1.0 - 1.0 / jobs) > DASK_START_S)
     if parallel:
@@ -130,32 +145,46 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         from limit.dask_pool import dask_client
 
         with dask_client(jobs, scheduler) as client:
-            for f in as_completed(client.map(_lp_alpha, [(data, float(t)) for t in rest], pure=False)):
+            for f in as_completed(client.map(_lp_alpha, [(data, float(t), every) for t in rest], pure=False)):
                 record(f.result())
     else:
         jobs = 1
         for t in rest:
-            record(_lp_alpha((data, float(t))))
-    status, alpha = [], []
+            record(_lp_alpha((data, float(t), every)))
+    status, alpha, fstatus, falpha = [], [], [], []
     for t in thetas:
         src = t if t in got else (360.0 - t) % 360.0  # mirrored
-        st, a, _ = got[src]
+        st, a, _, fst, fa = got[src]
         status.append(st)
         alpha.append(a if st == "optimal" and a is not None else float("nan"))
+        fstatus.append(fst)
+        falpha.append(fa if fa is not None else float("nan"))
     alpha = np.array(alpha, dtype=float)
+    falpha = np.array(falpha, dtype=float)
     out = {"theta": thetas.tolist(), "alpha": alpha.tolist(), "status": status, "min_theta": None, "min_alpha": None,
            "min_nlp": None, "lp_time_s": sum(v[2] for v in got.values()), "jobs": jobs, "mirror": bool(mirror),
            "solved": len(todo), "azimuth0": _azimuth(data), "min_direction": None}
+    if every:
+        out.update(alpha_frictional=falpha.tolist(), status_frictional=fstatus, min_theta_frictional=None,
+                   min_alpha_frictional=None, min_frictional=None)
+        if np.isfinite(falpha).any():
+            kf = int(np.nanargmin(falpha))
+            out.update(min_theta_frictional=float(thetas[kf]), min_alpha_frictional=float(falpha[kf]),
+                       min_frictional=_at(data, float(thetas[kf])),
+                       min_direction_frictional=_turn(data, float(thetas[kf]))["loads"]["live"][0]["direction"])
     if not np.isfinite(alpha).any():
         return {**out, "time_s": time.perf_counter() - t0}
     k = int(np.nanargmin(alpha))
-    at_min = None
-    if frictional:
-        from limit.analysis import analyse, public
-        from limit.model.scene import load_scene
-
-        r = public(analyse(load_scene(_turn(data, float(thetas[k]), verdict=True)), method="auto"))
-        at_min = {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}
+    at_min = _at(data, float(thetas[k])) if frictional else None
     return {**out, "min_theta": float(thetas[k]), "min_alpha": float(alpha[k]), "min_nlp": at_min,
             "min_direction": _turn(data, float(thetas[k]))["loads"]["live"][0]["direction"],
             "time_s": time.perf_counter() - t0}
+
+
+def _at(data: dict, theta: float) -> dict:
+    """The analysis in one direction (step 2 where it applies) with the code check there."""
+    from limit.analysis import analyse, public
+    from limit.model.scene import load_scene
+
+    r = public(analyse(load_scene(_turn(data, theta, verdict=True)), method="auto"))
+    return {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}

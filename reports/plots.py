@@ -342,6 +342,15 @@ def direction_polar(out: dict, path, title="") -> None:
         if nlp.get("status") == "optimal" and nlp.get("alpha") is not None:
             ax.plot([np.radians(out["min_theta"])], [nlp["alpha"]], "D", ms=7, color=COLORS["nlp"],
                     label=f"frictional there {nlp['alpha']:.4g}")
+    fa = np.asarray(out.get("alpha_frictional") or [np.nan] * len(a), dtype=float)
+    fok = np.isfinite(fa)
+    if fok.any():  # step 2 at every direction
+        ax.plot(np.append(th[fok], th[fok][:1]), np.append(fa[fok], fa[fok][:1]), "s-", ms=3, lw=1.2,
+                color=COLORS["nlp"], label="frictional alpha (step 2)")
+        if out.get("min_theta_frictional") is not None:
+            ax.plot([np.radians(out["min_theta_frictional"])], [out["min_alpha_frictional"]], "P", ms=13,
+                    color="#2c7a2c", label=f"frictional minimum {out['min_alpha_frictional']:.4g} at "
+                                           f"{out['min_theta_frictional']:g} deg")
     ax.set_rlim(0, 1.05 * float(np.nanmax(a)) if ok.any() else 1.0)
     ax.set_title(("worst load direction" + (f": {title}" if title else "")
                   + ("" if az0 is None else f"\nseen from above, +x to the right; theta from the live direction "

@@ -68,3 +68,34 @@ def test_the_minimum_is_given_as_a_global_direction():
     assert out["min_alpha"] == pytest.approx(0.3, rel=1e-6) and out["min_theta"] in (90.0, 270.0)
     assert np.allclose(np.abs(out["min_direction"]), [1.0, 0.0, 0.0], atol=1e-12)
     assert out["alpha"][0] == pytest.approx(0.6, rel=1e-6)
+
+
+def test_frictional_sweep_runs_step_2_in_every_direction(tmp_path):
+    """``every``: step 2 in each direction. A block b = 0.3 (x) by t = 0.8 (y) by h = 1, mu 0.5:
+    along +-x it overturns at b/h = 0.3; along +-y overturning needs t/h = 0.8, so it slides at
+    mu = 0.5 (the 24-face inscribed friction polygon has a corner along each axis: exact). The
+    frictional minimum is 0.3 along x, as the LP's. The CLI writes the polar plot with both curves."""
+    from limit.cli import main
+
+    data = B.single_block(3, 0.3, 1.0, t=0.8, mu=0.5)
+    out = sweep(data, 90.0, jobs=1, every=True)
+    assert out["alpha_frictional"] == pytest.approx([0.3, 0.5, 0.3, 0.5], rel=1e-5)
+    # overturning: the LP's mechanism is frictional already; sliding: step 2 runs (the LP's dilates)
+    assert out["status_frictional"] == ["skipped", "optimal", "skipped", "optimal"]
+    assert out["min_alpha_frictional"] == pytest.approx(0.3, rel=1e-6) and out["min_theta_frictional"] in (0.0, 180.0)
+    assert out["min_frictional"]["nlp"]["alpha"] == pytest.approx(0.3, rel=1e-6)
+    path = tmp_path / "scene.json"
+    path.write_text(__import__("json").dumps(data))
+    assert main(["sweep", str(path), "--step", "90", "--jobs", "1", "--frictional", "--plot",
+                 str(tmp_path / "p.png")]) == 0
+    assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_the_frictional_minimum_is_told_apart_only_when_lower():
+    from limit.cli import _worse_elsewhere
+
+    out = {"theta": [0.0, 180.0], "min_theta": 180.0, "alpha_frictional": [1 / 6, 1 / 6], "min_alpha_frictional": 1 / 6}
+    assert not _worse_elsewhere(out)  # a tie: the LP's worst direction is a frictional minimum too
+    out["alpha_frictional"] = [0.16, 1 / 6]
+    out["min_alpha_frictional"] = 0.16
+    assert _worse_elsewhere(out)
