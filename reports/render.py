@@ -331,10 +331,11 @@ def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: b
     return s
 
 
-def scene_summary(r) -> list[str]:
+def scene_summary(r, la: dict | None = None) -> list[str]:
     """The opening lines of one scene's page (a results row, :func:`reports.table.row`): the
     LP, step 2 (and in 3D the same with the engines' near-circular cone), and each engine's
-    alpha against the bracket [frictional alpha, LP]."""
+    alpha against the bracket [frictional alpha, LP]; with the ``la`` result, step 2's route and
+    its checks too."""
     def stage(alpha, status, reason, t):
         if _finite(alpha) and status in ("optimal", "skipped"):
             return f"alpha = {alpha:.6g} ({status}{'' if not _finite(t) else f', {t:.2f} s'})"
@@ -343,6 +344,20 @@ def scene_summary(r) -> list[str]:
     out = [f"Associative LP (step 1, an upper bound): {stage(r['lp_alpha'], r['lp_status'], r['lp_reason'], r['lp_time_s'])}.",
            f"Frictional limit analysis (step 2, the answer): "
            f"{stage(r['fric_alpha'], r['nlp_status'] if r['nlp_status'] != 'failed' or _finite(r['fric_alpha']) else 'failed', r['nlp_reason'], r['nlp_time_s'])}."]
+    nlp = (la or {}).get("nlp") or {}
+    how = []
+    if nlp.get("route"):
+        how.append(f"route {nlp['route']}" + (f", start {nlp['start']}" if nlp.get("start") else ""))
+    ver = nlp.get("verification") or {}
+    res = [f"{k} residual {ver[k]:.1e}" for k in ("equilibrium", "yield", "complementarity")
+           if isinstance(ver.get(k), (int, float))]
+    if res:
+        how.append("checked: " + ", ".join(res))
+    g = nlp.get("global") or {}
+    if g.get("status"):
+        how.append(f"global MILP {g['status']}" + (f" {g['alpha']:.6g}" if _finite(g.get("alpha")) else ""))
+    if how:
+        out[-1] = out[-1][:-1] + f" [{'; '.join(how)}]."
     if r["dim"] == 3 and _finite(r.get("cone_lp_alpha")):
         out.append(f"With the near-circular friction cone of the dynamic engines: LP {_num(r.get('cone_lp_alpha'), '.6g')}, "
                    f"step 2 {_num(r.get('cone_alpha'), '.6g')}.")
@@ -362,37 +377,60 @@ def scene_summary(r) -> list[str]:
     return out
 
 
-def summary_lines(df) -> list[str]:
-    """The page's opening lines: how many scenes agree with their reference within its tolerance,
-    and each dynamic engine against the bracket [frictional minimum, LP] (which fall below, which
-    above: dem_validation.bracket)."""
+#: a dynamic alpha within this (relative) of the frictional limit analysis agrees with it
+AGREE = 0.05
+
+
+def short_reason(r, col: str) -> str:
+    """One line on why an engine's alpha (``col``: "dem" YADE, "lmgc" LMGC90) stands away from the
+    frictional limit analysis, from the bracket theory gives (the paragraphs of :func:`explain`
+    say more)."""
+    a, fric, lp = r.get(f"{col}_alpha"), r.get("fric_alpha"), r.get("lp_alpha")
+    br = r.get(f"{col}_bracket") or ""
+    if br == "suspect high":
+        return "above the LP's upper bound: suspect (the engine carries more than any rigid-block state allows)"
+    if _finite(fric) and a > fric:
+        near = _finite(lp) and abs(a - lp) <= 0.03 * lp
+        return ("between step 2 and the LP" + (", near the LP" if near else "") + ": the loading path selects a "
+                "state above the frictional minimum (joints that step 2 lets open and slide carry friction)")
+    if col == "lmgc" and r.get("lmgc_creep"):
+        return "below step 2, and its trials that held never came to rest: creep, a time-step artefact"
+    if br == "suspect low":
+        return "below step 2: a contradiction (a lower state step 2 missed, or an engine artefact)"
+    return "below step 2, within the engine's own bracket slack"
+
+
+def summary_lines(df) -> list[dict]:
+    """The page's opening lines ({"text", "href": scene or None}): how many scenes agree with their
+    reference within its tolerance, how many engine results agree with the frictional limit
+    analysis within :data:`AGREE`, and one line per result that does not, with its reason
+    (:func:`short_reason`) and a link to its scene."""
     n = len(df)
     out = []
     ref = df[[_finite(v) for v in df["ref_alpha"]]] if n else df
     if len(ref):
         ok = [bool(v) for v in ref["within_ref"]]
-        bad = [f"{r['name']} ({_pct(r['nlp_err'])})" for (_, r), good in zip(ref.iterrows(), ok) if not good]
-        out.append(f"Limit analysis: {sum(ok)} of {len(ref)} scenes with a reference agree with it within its "
-                   "tolerance" + (f"; the others: {', '.join(bad)}." if bad else "."))
+        out.append({"text": f"Limit analysis: {sum(ok)} of {len(ref)} scenes with a reference agree with it within "
+                            "its tolerance.", "href": None})
+        out += [{"text": f"limit analysis {_pct(r['nlp_err'])} from its reference ({r['ref_source']})",
+                 "href": r["name"]} for (_, r), good in zip(ref.iterrows(), ok) if not good]
+    lines, ran, off = [], 0, 0
     for engine, col in (("YADE", "dem"), ("LMGC90", "lmgc")):
         if f"{col}_status" not in df:
             continue
-        ran = df[[s == "collapsed" and _finite(a) for s, a in zip(df[f"{col}_status"], df[f"{col}_alpha"])]]
-        if not len(ran):
-            continue
-        low = [r["name"] for _, r in ran.iterrows() if r.get(f"{col}_bracket") == "suspect low"]
-        high = [r["name"] for _, r in ran.iterrows() if r.get(f"{col}_bracket") == "suspect high"]
-        line = (f"{engine}: {len(ran) - len(low) - len(high)} of {len(ran)} collapses lie inside the bracket "
-                "[frictional limit analysis, LP] (theory: no rigid-block collapse below the first, none needs more "
-                "than the second)")
-        if low:
-            line += f"; below it: {', '.join(low)}"
-        if high:
-            line += f"; above it: {', '.join(high)}"
-        out.append(line + ".")
-        skipped = [r["name"] for _, r in df.iterrows() if r.get(f"{col}_status") in ("skipped", "failed")]
-        if skipped:
-            out[-1] += f" Not run or failed: {', '.join(skipped)}."
+        for _, r in df.iterrows():
+            if r.get(f"{col}_status") != "collapsed" or not _finite(r.get(f"{col}_alpha")):
+                continue
+            ran += 1
+            v = r.get(f"{col}_vs_la")
+            if _finite(v) and abs(v) > AGREE:
+                off += 1
+                lines.append({"text": f"{engine} {_pct(v)}: {short_reason(r, col)}", "href": r["name"]})
+    if ran:
+        out.append({"text": f"Dynamic engines: {ran - off} of {ran} collapses agree with the frictional limit "
+                            f"analysis within {100 * AGREE:.0f} %. Theory brackets a rigid-block collapse between "
+                            "step 2 (the frictional minimum) and the LP (an upper bound); the others:", "href": None})
+        out += lines
     return out
 
 
@@ -440,6 +478,8 @@ def _markdown(df, mech_png, stamp, wall_time, cap_png=None, example=()):
     cap_png = cap_png or {}
     lines = ["# Collapse of block masonry: limit analysis against DEM", "",
              f"{stamp}; {len(df)} scenes" + (f"; run time {wall_time:.0f} s" if wall_time else "") + ".", "",
+             ] + [f"- {'[' + x['href'] + '](#' + x['href'] + '): ' if x['href'] else ''}{x['text']}"
+                  for x in summary_lines(df)] + ["",
              "| " + " | ".join(HEAD) + " |", "|" + " --- |" * len(HEAD)]
     for _, r in df.iterrows():
         cells = _cells(r)

@@ -75,7 +75,7 @@ def run(args) -> int:
     table.write(df, out)
     page = scene_page(df, path, done, out, wall_time=time.perf_counter() - t0, scene=scene)
     bad = failures(done)
-    for line in render.scene_summary(df.iloc[0]):
+    for line in render.scene_summary(df.iloc[0], done.get((name, "la"))):
         print(f"report: {line}", file=sys.stderr)
     print(f"report: wrote {page} ({page.stat().st_size / 1e6:.1f} MB)", file=sys.stderr)
     for scene, stage, why in bad:
@@ -111,11 +111,11 @@ def scene_page(df, path: Path, results: dict, out: Path, wall_time: float | None
     page = render.render("scene.html", title=f"{name}: limit analysis against DEM", stamp=stamp, wall_time=wall_time,
                          legend=render.LEGEND.split(" Blocks and")[0] + f" Blocks and motions for ParaView: "
                                                                          f"vtk/{name}.vtk; the table: results.csv.",
-                         plotly_script=view3d.script_tag() if s["views"] else "", summary=render.scene_summary(r),
+                         plotly_script=view3d.script_tag() if s["views"] else "", summary=[{"text": t, "href": None} for t in render.scene_summary(r, la)],
                          head=render.HEAD, rows=render._rows(df), scenes=[s])
     html_path = out / f"{name}.html"
     html_path.write_text(page)
-    md = [f"# {name}: limit analysis against DEM", ""] + [f"- {x}" for x in render.scene_summary(r)] + [""]
+    md = [f"# {name}: limit analysis against DEM", ""] + [f"- {x}" for x in render.scene_summary(r, la)] + [""]
     md += [f"- {x}" for x in s["explain"]] + [""]
     md += [f"![mechanisms]({s['mech_png']})", ""] if s["mech_png"] else []
     md += [f"![pushover curves]({s['cap_png']})", ""] if s["cap_png"] else []

@@ -507,3 +507,29 @@ def test_vtk_keeps_every_engine_and_carries_ids_loads_and_joint_states(tmp_path)
     joints = (tmp_path / "o-joints.vtk").read_text()
     assert "LINES 1 3" in joints and "SCALARS lp_state int 1\nLOOKUP_TABLE default\n1\n" in joints
     assert "SCALARS nlp_state int 1\nLOOKUP_TABLE default\n0\n" in joints
+
+
+def test_the_summary_counts_agreement_and_gives_each_other_result_one_linked_line():
+    """Three scenes with YADE: one 1 % above step 2 (agrees), one 30 % above it and below the LP
+    (between the bounds: the loading path), one 10 % below it (suspect low); LMGC90 on one, 8 %
+    below with trials that crept. 1 of 4 collapses agrees within 5 %; three linked lines."""
+    base = {"ref_alpha": None, "within_ref": None, "nlp_err": float("nan"), "ref_source": "", "lp_alpha": 0.5}
+    rows = [dict(base, name="a", fric_alpha=0.3, dem_status="collapsed", dem_alpha=0.303, dem_vs_la=0.01,
+                 dem_bracket="", lmgc_status=None, lmgc_alpha=None, lmgc_vs_la=None, lmgc_bracket=""),
+            dict(base, name="b", fric_alpha=0.3, dem_status="collapsed", dem_alpha=0.39, dem_vs_la=0.3,
+                 dem_bracket="", lmgc_status=None, lmgc_alpha=None, lmgc_vs_la=None, lmgc_bracket=""),
+            dict(base, name="c", fric_alpha=0.3, dem_status="collapsed", dem_alpha=0.27, dem_vs_la=-0.1,
+                 dem_bracket="suspect low", lmgc_status="collapsed", lmgc_alpha=0.276, lmgc_vs_la=-0.08,
+                 lmgc_bracket="suspect low", lmgc_creep=True)]
+    lines = render.summary_lines(pd.DataFrame(rows))
+    assert lines[0]["text"].startswith("Dynamic engines: 1 of 4 collapses agree") and lines[0]["href"] is None
+    linked = [(x["href"], x["text"]) for x in lines[1:]]
+    assert [h for h, _ in linked] == ["b", "c", "c"]
+    assert "between step 2 and the LP" in linked[0][1] and "YADE +30.00 %" in linked[0][1]
+    assert "a contradiction" in linked[1][1] and "creep" in linked[2][1] and linked[2][1].startswith("LMGC90")
+    html = render.catalog_html(pd.DataFrame(rows).assign(dim=2, n_blocks=2, n_interfaces=1, title="", figure="",
+                                                         pub_alpha=None, lp_status="optimal", nlp_status="optimal",
+                                                         nlp_alpha=0.3, global_status=None, global_alpha=None,
+                                                         lp_err=float("nan"), lp_time_s=0.1, nlp_time_s=0.1,
+                                                         dem_time_s=1.0, mech_similarity=float("nan")))
+    assert '<a href="#c">c</a>: LMGC90 -8.00 %' in html
