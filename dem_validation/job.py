@@ -179,9 +179,19 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         "fL": pad6(fL, scene.dim).tolist(),
         "interfaces": [[int(a), int(b), float(s)] for a, b, s in zip(interfaces.a, interfaces.b, interfaces.area)],
         "friction": float(scene.friction),
-        "friction_pairs": [[int(i), int(j), float(mu)] for (i, j), mu in sorted(scene.friction_pairs.items())],
+        "friction_pairs": _friction_pairs(scene, interfaces),
         "rho_g": rho_g(scene),
         "gravity_norm": float(np.linalg.norm(scene.gravity)),
         "params": dict(params),
         "result": result,
     }
+
+
+def _friction_pairs(scene, interfaces) -> list:
+    """[[i, j, mu]] of the block pairs whose joints do not have the scene's friction: the
+    ``interfaces.friction`` pairs and the ``joints`` groups, as the interfaces carry them."""
+    pairs = {(min(i, j), max(i, j)): mu for (i, j), mu in scene.friction_pairs.items()}
+    for a, b, mu in zip(interfaces.a, interfaces.b, interfaces.mu):
+        if float(mu) != float(scene.friction) or (min(a, b), max(a, b)) in pairs:
+            pairs[(int(min(a, b)), int(max(a, b)))] = float(mu)
+    return [[int(i), int(j), float(mu)] for (i, j), mu in sorted(pairs.items())]

@@ -111,6 +111,9 @@ def find_interfaces(scene) -> Interfaces:
             key = (min(i, j), max(i, j))
             if key in scene.friction_pairs:
                 mu[k] = scene.friction_pairs[key]
+    for g in scene.joint_groups:  # the scene's "joints" (limit.model.joint_groups), in order, over the pairs
+        if g.mu is not None:
+            mu[g.selects(a[sel], b[sel])] = g.mu
     return Interfaces(
         dim=d, a=a[sel], b=b[sel],
         normal=fields["normal"][sel], t1=fields["t1"][sel],

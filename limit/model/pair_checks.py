@@ -14,7 +14,12 @@ from limit.model.hull_distance import pieces_distance
 
 
 def check_friction_pairs(scene, I) -> None:
-    """SceneError naming the first ``interfaces.friction`` entry whose blocks share no interface."""
+    """SceneError naming the first ``interfaces.friction`` entry whose blocks share no interface,
+    or the first ``joints`` entry that selects no interface."""
+    if scene.joint_groups:
+        from limit.model.joint_groups import check_selected
+
+        check_selected(scene, I)
     if not scene.friction_pairs:
         return
     touching = {(min(a, b), max(a, b)) for a, b in zip(np.asarray(I.a).tolist(), np.asarray(I.b).tolist())}

@@ -97,6 +97,7 @@ class Scene:
     demand: object = None              # limit.model.seismic_demand.Demand of the file's "demand", or None
     fc: float | None = None            # its confidence factor (demand.fc), or None
     symmetry: str = "none"             # "mirror": declared mirror-symmetric (limit.verdict.symmetry checks it)
+    joint_groups: tuple = ()           # the file's "joints", resolved: limit.model.joint_groups.JointGroup
 
     @property
     def n_blocks(self) -> int:
@@ -391,6 +392,9 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
             raise SceneError(f"interfaces.friction[{k}].blocks: a block cannot touch itself ('{a}')")
         friction_pairs[tuple(sorted((ids[a], ids[b])))] = float(item["mu"])
 
+    from limit.model.joint_groups import parse_joint_groups
+
+    joint_groups = parse_joint_groups(data.get("joints", []), ids, blocks)
     loads = data.get("loads", {})
     dead = [_resolve_load(ld, f"loads.dead[{k}]", dim, ids, blocks) for k, ld in
             enumerate(loads.get("dead", [{"type": "self_weight"}]))]
@@ -403,7 +407,7 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
                   sliding_faces=data.get("interfaces", {}).get("sliding_faces"),
                   slide_fit=data.get("interfaces", {}).get("slide_fit"),
                   demand=_demand(data.get("demand")), fc=(data.get("demand") or {}).get("fc"),
-                  symmetry=data.get("symmetry", "none"))
+                  symmetry=data.get("symmetry", "none"), joint_groups=joint_groups)
     load_checks.check_loads(scene)
     if check_overlaps:
         from limit.geom.overlap import check_overlaps as _check

@@ -1,0 +1,87 @@
+"""Joint groups: the scene's ``joints`` list (docs/formats.md, 'Joint groups'), each entry
+selecting the joints between two blocks (``{"between": {"blocks": [id, id]}}``) or between any
+block with one tag and any block with another (``{"between": {"tags": [tag, tag]}}``, the two
+tags may be the same), and setting their properties.
+
+Precedence: the scene's ``friction`` for every joint, then the ``interfaces.friction`` pairs,
+then the ``joints`` entries in the order of the file, a later entry winning over an earlier
+one. Of the properties, ``mu`` is modelled; ``cohesion``, ``tensile_strength`` and ``fc`` are
+accepted only as 0 (or absent), since the yield domain has no cohesion, tension or crushing: a
+non-zero value is rejected, naming the key, rather than ignored. An entry that selects no joint
+is rejected too (:func:`check_selected`), naming it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from limit.errors import SceneError
+
+#: properties a joint group may set that the yield domain does not model (only 0 is accepted)
+UNMODELLED = ("cohesion", "tensile_strength", "fc")
+
+
+@dataclass(frozen=True)
+class JointGroup:
+    """One ``joints`` entry: ``where`` ("joints[k]"), the block indices of each side (a pair of
+    index sets), and ``mu`` (None: the entry leaves friction as it is)."""
+
+    where: str
+    side_a: frozenset
+    side_b: frozenset
+    text: str
+    mu: float | None
+
+    def selects(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """(m,) bool: the joints between blocks ``a[k]`` and ``b[k]`` that this entry selects."""
+        ina = np.isin(a, list(self.side_a))
+        inb = np.isin(b, list(self.side_b))
+        ina_b = np.isin(a, list(self.side_b))
+        inb_a = np.isin(b, list(self.side_a))
+        return (ina & inb) | (ina_b & inb_a)
+
+
+def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
+    """The ``joints`` entries as :class:`JointGroup` (``ids``: block id -> index); SceneError naming
+    an unknown block or tag, a block paired with itself, or a property that is not modelled."""
+    out = []
+    tags = {}
+    for b in blocks:
+        for t in b.tags:
+            tags.setdefault(t, set()).add(b.index)
+    for k, e in enumerate(entries):
+        where = f"joints[{k}]"
+        for key in UNMODELLED:
+            if e.get(key) not in (None, 0, 0.0):
+                raise SceneError(f"{where}.{key}: {key.replace('_', ' ')} is not modelled (the joints are dry: "
+                                 "no cohesion, no tension, no crushing); give 0 or leave it out")
+        sel = e.get("between") or {}
+        if "blocks" in sel:
+            pair = sel["blocks"]
+            for j, x in enumerate(pair):
+                if x not in ids:
+                    raise SceneError(f"{where}.between.blocks[{j}]: unknown block id '{x}'")
+            if pair[0] == pair[1]:
+                raise SceneError(f"{where}.between.blocks: a block cannot touch itself ('{pair[0]}')")
+            sa, sb = frozenset([ids[pair[0]]]), frozenset([ids[pair[1]]])
+            text = f"blocks '{pair[0]}' and '{pair[1]}'"
+        elif "tags" in sel:
+            pair = sel["tags"]
+            for j, t in enumerate(pair):
+                if t not in tags:
+                    raise SceneError(f"{where}.between.tags[{j}]: no block has the tag '{t}'")
+            sa, sb = frozenset(tags[pair[0]]), frozenset(tags[pair[1]])
+            text = f"blocks tagged '{pair[0]}' and '{pair[1]}'"
+        else:
+            raise SceneError(f"{where}.between: give \"blocks\": [id, id] or \"tags\": [tag, tag]")
+        out.append(JointGroup(where, sa, sb, text, None if e.get("mu") is None else float(e["mu"])))
+    return tuple(out)
+
+
+def check_selected(scene, I) -> None:
+    """SceneError naming the first ``joints`` entry that selects none of the interfaces ``I``."""
+    a, b = np.asarray(I.a), np.asarray(I.b)
+    for g in scene.joint_groups:
+        if not g.selects(a, b).any():
+            raise SceneError(f"{g.where}.between: selects no joint: no interface between {g.text}")

@@ -1,0 +1,77 @@
+"""Joint groups: the scene's ``joints`` list (limit/model/joint_groups.py) selects joints by
+block pair or by tags and sets their friction; a selection of nothing, an unknown tag and a
+property the yield domain does not model are rejected, naming the entry."""
+import json
+
+import numpy as np
+import pytest
+
+from limit.analysis import analyse
+from limit.errors import SceneError
+from limit.geom.interfaces import find_interfaces
+from limit.model.scene import load_scene
+from scenes import builders as B
+
+
+def _stack():
+    """Three 0.5 x 0.3 m blocks s0, s1, s2 (tags course-0..2) on a fixed base, mu 0.6."""
+    return B.stack(3, dim=2, b=0.5, h=0.3, mu=0.6)
+
+
+def test_a_damp_proof_course_by_tags_sets_the_sliding_load():
+    """The joints between course 0 and course 1 get mu 0.2: the two blocks above slide on it when
+    alpha (W1 + W2) = 0.2 (W1 + W2), alpha = 0.2, below overturning (the top two blocks about the
+    toe of course 1: b / h = 0.5 / 0.6 = 0.83) and below sliding elsewhere (0.6). The DEM job
+    carries the pair's friction."""
+    d = _stack()
+    d["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "mu": 0.2}]
+    s = load_scene(d)
+    res = analyse(s, method="nlp")
+    assert res["lp"]["alpha"] == pytest.approx(0.2, rel=1e-6)
+    assert res["nlp"]["alpha"] == pytest.approx(0.2, rel=1e-6)
+    from dem_validation.job import _friction_pairs
+
+    ids = {b.id: b.index for b in s.blocks}
+    assert _friction_pairs(s, find_interfaces(s)) == [[ids["s0"], ids["s1"], 0.2]]
+
+
+def test_later_entries_win_over_earlier_ones_and_over_interfaces_friction():
+    d = _stack()
+    d["interfaces"] = {"friction": [{"blocks": ["base", "s0"], "mu": 0.3}]}
+    d["joints"] = [{"between": {"blocks": ["s0", "base"]}, "mu": 0.4},
+                   {"between": {"tags": ["course-1", "course-2"]}, "mu": 0.5},
+                   {"between": {"blocks": ["base", "s0"]}, "mu": 0.35}]
+    s = load_scene(d)
+    I = find_interfaces(s)
+    mu = {tuple(sorted(p)): m for p, m in zip(I.pairs(s), I.mu)}
+    assert mu == {("base", "s0"): 0.35, ("s0", "s1"): 0.6, ("s1", "s2"): 0.5}
+
+
+@pytest.mark.parametrize("entry, match", [
+    ({"between": {"blocks": ["s0", "s2"]}, "mu": 0.3}, r"joints\[0\]\.between: selects no joint: no interface "
+                                                       r"between blocks 's0' and 's2'"),
+    ({"between": {"tags": ["course-0", "course-2"]}, "mu": 0.3}, r"joints\[0\]\.between: selects no joint"),
+    ({"between": {"tags": ["dpc", "course-1"]}, "mu": 0.3}, r"joints\[0\]\.between\.tags\[0\]: no block has the tag 'dpc'"),
+    ({"between": {"blocks": ["s0", "nope"]}}, r"joints\[0\]\.between\.blocks\[1\]: unknown block id 'nope'"),
+    ({"between": {"blocks": ["s0", "s1"]}, "cohesion": 50000}, r"joints\[0\]\.cohesion: cohesion is not modelled"),
+    ({"between": {"blocks": ["s0", "s1"]}, "fc": 2e6}, r"joints\[0\]\.fc: fc is not modelled"),
+    ({"between": {}}, r"joints\[0\]\.between: give"),
+])
+def test_mistakes_are_named(entry, match, tmp_path):
+    d = _stack()
+    d["joints"] = [entry]
+    with pytest.raises(SceneError, match=match):
+        analyse(load_scene(d), method="lp")
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(d))
+    from limit.cli import main
+
+    assert main(["solve", str(path), "--method", "lp"]) == 2
+
+
+def test_zero_cohesion_is_accepted_and_changes_nothing():
+    d = _stack()
+    plain = analyse(load_scene(d), method="lp")["lp"]["alpha"]
+    d["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "cohesion": 0, "tensile_strength": 0}]
+    assert analyse(load_scene(d), method="lp")["lp"]["alpha"] == pytest.approx(plain, rel=1e-12)
+    assert np.isfinite(plain)
