@@ -1,6 +1,7 @@
 """What a long validation or report run is doing: the stages running now, how far each has got
 (the engines' own progress records: YADE's eps, trial alpha and step; LMGC90's trial alpha and
-outcome), and the time left, estimated from the stages' costs rather than from the rate so far.
+outcome), and the time left, estimated from the stages' costs (scaled by the pace of the stages
+finished so far on this machine) rather than from the count of stages done.
 
 The worker side (:class:`StageProgress`) writes a stage's latest record to a file of a shared
 folder; the main side (:class:`Board`) reads those files every :data:`REFRESH_S` seconds and
@@ -17,6 +18,8 @@ from pathlib import Path
 
 #: seconds between two refreshes of the status line, and between two records written by a worker
 REFRESH_S = 2.0
+#: the finished stages' costs (s) from which their pace scales the time left
+MIN_PACE_COST = 60.0
 
 
 def _file(folder, stage: str, name: str) -> Path:
@@ -78,6 +81,7 @@ class Board:
         self.folder, self.slots, self.show = folder, max(1, slots), show
         self.running: dict = {}  # (stage, name) -> (start time, cost)
         self.queued = float(queued_cost)
+        self.spent = self.expected = 0.0  # finished stages: their seconds, and their costs
         self._stop = threading.Event()
         self._lock = threading.Lock()
         self._thread = threading.Thread(target=self._loop, daemon=True)
@@ -90,14 +94,25 @@ class Board:
 
     def finish(self, stage: str, name: str) -> None:
         with self._lock:
-            self.running.pop((stage, name), None)
+            t0, cost = self.running.pop((stage, name), (None, 0.0))
+            if t0 is not None:
+                self.spent += time.monotonic() - t0
+                self.expected += cost
+
+    def pace(self) -> float:
+        """Seconds this machine takes per second of cost, from the finished stages (1 until stages
+        of at least MIN_PACE_COST seconds of cost have finished)."""
+        return self.spent / self.expected if self.expected >= MIN_PACE_COST else 1.0
 
     def eta(self) -> float:
         """Seconds left: the queued stages' costs and what the running ones have left (at least a
-        tenth of their cost: a stage past its estimate is not over), shared by the slots."""
+        tenth of their cost: a stage past its estimate is not over), times :meth:`pace`, shared
+        by the slots."""
         now = time.monotonic()
         with self._lock:
-            left = self.queued + sum(max(cost - (now - t0), 0.1 * cost) for t0, cost in self.running.values())
+            k = self.pace()
+            left = k * self.queued + sum(max(k * cost - (now - t0), 0.1 * k * cost)
+                                         for t0, cost in self.running.values())
         return left / self.slots
 
     def line(self) -> str:

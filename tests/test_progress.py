@@ -57,3 +57,17 @@ def test_the_line_is_shown_while_stages_run(tmp_path):
     time.sleep(2.5 * prog.REFRESH_S)
     board.close()
     assert shown and all("dome la" in s for s in shown)
+
+
+def test_the_pace_of_finished_stages_scales_the_time_left():
+    """A stage of cost 100 s that took 200 s: this machine runs at half the measured speed, so
+    300 s of queued cost on one slot leave about 600 s."""
+    board = prog.Board(None, slots=1, show=lambda _: None, queued_cost=400.0)
+    try:
+        board.start("dem", "a", 100.0)
+        board.running[("dem", "a")] = (time.monotonic() - 200.0, 100.0)
+        board.finish("dem", "a")
+        assert board.pace() == pytest.approx(2.0, rel=1e-3)
+        assert board.eta() == pytest.approx(600.0, rel=1e-3)
+    finally:
+        board.close()
