@@ -16,8 +16,6 @@ def test_time_left_comes_from_the_costs_not_the_rate(tmp_path):
         board.start("lmgc", "wall", 300.0)
         assert board.queued == pytest.approx(600.0)
         assert board.eta() == pytest.approx(500.0, abs=1.0)
-        board.finish("dem", "wall")
-        assert board.eta() == pytest.approx(450.0, abs=1.0)
     finally:
         board.close()
 
