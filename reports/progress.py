@@ -33,16 +33,21 @@ class StageProgress:
     def __init__(self, path):
         self.path = str(path)
         self.shown = 0.0
+        self.started = time.time()
+        self._write({})  # the stage has started on a worker
 
     def __call__(self, record: dict) -> None:
         now = time.monotonic()
         if "outcome" not in record and now - self.shown < REFRESH_S:
             return
         self.shown = now
+        self._write(record)
+
+    def _write(self, record: dict) -> None:
         tmp = f"{self.path}.{os.getpid()}.tmp"
         try:
             with open(tmp, "w") as f:
-                json.dump(record, f)
+                json.dump({**record, "started": self.started}, f)
             os.replace(tmp, self.path)
         except OSError:  # progress is a courtesy: never a reason for a stage to fail
             pass
@@ -119,16 +124,19 @@ class Board:
         now = time.monotonic()
         with self._lock:
             running = sorted(self.running.items(), key=lambda kv: kv[1][0])
-        parts = []
+        parts, waiting = [], 0
         for (stage, name), (t0, _) in running:
             rec = None
             if self.folder is not None:
                 try:
                     rec = json.loads(_file(self.folder, stage, name).read_text())
                 except (OSError, ValueError):
-                    rec = None
-            parts.append(f"{name} {stage} {_clock(now - t0)}" + (f" ({record_text(rec)})" if rec else ""))
-        left = f"about {_clock(self.eta())} left"
+                    waiting += 1  # handed to the cluster, not yet begun on a worker
+                    continue
+            since = now - t0 if rec is None else time.time() - rec.get("started", time.time())
+            text = record_text(rec) if rec else ""
+            parts.append(f"{name} {stage} {_clock(since)}" + (f" ({text})" if text else ""))
+        left = f"about {_clock(self.eta())} left" + (f", {waiting} stage(s) waiting for a worker" if waiting else "")
         return f"running: {'; '.join(parts)} | {left}" if parts else left
 
     def _loop(self) -> None:

@@ -100,10 +100,12 @@ def _run_task(stage, data, opts, la=None, progress_file=None):
     ``progress_file``: where the engine's latest progress record goes (:mod:`reports.progress`)."""
     if la is not None:
         opts = {**opts, "hint": guess_from(la)}
-    if progress_file is not None and stage in ("dem", "lmgc"):
+    if progress_file is not None:
         from .progress import StageProgress
 
-        opts = {**opts, "progress": StageProgress(progress_file)}
+        record = StageProgress(progress_file)  # says the stage has begun
+        if stage in ("dem", "lmgc"):
+            opts = {**opts, "progress": record}
     return STAGES[stage][1](data, opts)
 
 

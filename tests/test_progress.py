@@ -49,12 +49,15 @@ def test_the_line_shows_each_engines_latest_record(tmp_path):
 
 
 def test_the_line_is_shown_while_stages_run(tmp_path):
+    """A stage handed to the cluster is 'waiting' until its worker begins it (its progress file)."""
     shown = []
     board = prog.Board(tmp_path, slots=1, show=shown.append)
     board.start("la", "dome", 5.0)
+    assert "1 stage(s) waiting for a worker" in board.line() and "dome la" not in board.line()
+    prog.StageProgress(prog.path_for(tmp_path, "la", "dome"))  # the worker begins it
     time.sleep(2.5 * prog.REFRESH_S)
     board.close()
-    assert shown and all("dome la" in s for s in shown)
+    assert shown and all("running: dome la" in s for s in shown)
 
 
 def test_the_pace_of_finished_stages_scales_the_time_left():
