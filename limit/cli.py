@@ -61,6 +61,10 @@ def _parser() -> argparse.ArgumentParser:
                     help="also run the NLP from an arbitrary start (the paper's Fig. 4 comparison)")
     ps.add_argument("--nlp-time-budget", type=float, default=None, metavar="S",
                     help="wall-clock budget of step 2 in s: no restart begins after it (default 120)")
+    ps.add_argument("--no-cache", action="store_true",
+                    help="solve again even when the result cache holds this scene with these options "
+                         "(also: the environment variable LIMIT_NO_CACHE=1)")
+    ps.add_argument("--cache", metavar="DIR", default=None, help="result cache folder (default .cache/results)")
     ps.add_argument("--dem-start", metavar="DEM.json", default=None,
                     help="also start step 2 from a DEM run's collapse state (its result file, python -m "
                          "dem_validation run --json): the joints it opens and slides as the piece LP's flowing "
@@ -258,21 +262,48 @@ def cmd_solve(args) -> int:
         if unknown:
             raise SceneError(f"--dem-start {args.dem_start}: block '{unknown[0]}' is not in the scene "
                              f"({len(unknown)} unknown id(s)): a DEM run of another scene?")
-    res = analyse(scene, method=args.method, options=opts, solver=args.solver,
-                  fallback=not args.no_fallback, check_kinematic=args.check_kinematic, nlp_options=nlp_options)
-    print(format_result(res))
+    cache, k = _solve_cache(args, scene, nlp_options)
+    out = cache.get("solve", scene.name, k) if cache is not None else None
+    if out is not None:
+        print(format_result(out))
+        print(f"(from the result cache, {cache.path('solve', scene.name, k)}; --no-cache solves again)",
+              file=sys.stderr)
+    else:
+        res = analyse(scene, method=args.method, options=opts, solver=args.solver,
+                      fallback=not args.no_fallback, check_kinematic=args.check_kinematic, nlp_options=nlp_options)
+        print(format_result(res))
+        out = public(res)
+        if cache is not None and "failed" not in (out["lp"].get("status"), (out.get("nlp") or {}).get("status")):
+            cache.put("solve", scene.name, k, out)  # a failed answer is solved again next time
     if args.json:
-        jsonio.write_json(args.json, public(res))
+        jsonio.write_json(args.json, out)
     if args.plot:
         from limit.results.mechanism_plot import plot_mechanism
 
-        written = plot_mechanism(scene, public(res), args.plot)
+        written = plot_mechanism(scene, out, args.plot)
         if not written:
             print(f"no mechanism to draw: {args.plot} not written", file=sys.stderr)
         for path in written:
             print(f"wrote {path}", file=sys.stderr)
-    failed = res["lp"]["status"] == "failed" or res.get("nlp", {}).get("status") == "failed"
+    failed = out["lp"]["status"] == "failed" or (out.get("nlp") or {}).get("status") == "failed"
     return 1 if failed else 0
+
+
+#: options of ``limit solve`` that decide nothing in its result (outputs and the cache itself)
+NOT_IN_SOLVE_KEY = ("command", "scene", "json", "plot", "no_cache", "cache", "dem_start", "strict")
+
+
+def _solve_cache(args, scene, nlp_options) -> tuple:
+    """(cache, key) of a ``limit solve`` run, or (None, None) with ``--no-cache`` or LIMIT_NO_CACHE:
+    the result file is kept by scene content, options (the DEM start's state included) and the
+    code's fingerprint (:mod:`reports.cache`), like ``make validate``'s stages."""
+    if args.no_cache or os.environ.get("LIMIT_NO_CACHE"):
+        return None, None
+    from reports.cache import DEFAULT_DIR, Cache, key
+
+    options = {k: v for k, v in vars(args).items() if k not in NOT_IN_SOLVE_KEY}
+    options["dem_state"] = nlp_options.get("dem_state")
+    return Cache(args.cache or DEFAULT_DIR), key("solve", scene.data, options)
 
 
 def cmd_info(args) -> int:

@@ -25,7 +25,7 @@ from limit import jsonio
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_DIR = ROOT / ".cache" / "results"
 #: packages whose source decides each stage's result
-STAGE_CODE = {"la": ("limit",), "cone": ("limit",), "sweep": ("limit",), "dem": ("limit", "dem_validation"), "lmgc": ("limit", "dem_validation")}
+STAGE_CODE = {"la": ("limit",), "cone": ("limit",), "sweep": ("limit",), "solve": ("limit",), "dem": ("limit", "dem_validation"), "lmgc": ("limit", "dem_validation")}
 
 
 @lru_cache(maxsize=None)

@@ -1,4 +1,5 @@
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -6,6 +7,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+# `limit solve` keeps its results in the repository's cache; the suite solves afresh (its subprocesses
+# inherit this), and tests/test_cli.py checks the cache with a folder of its own
+os.environ["LIMIT_NO_CACHE"] = "1"
 
 
 @pytest.fixture

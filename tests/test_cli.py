@@ -129,3 +129,30 @@ def test_the_lp_line_names_the_3d_friction_cone(extra, cone):
     assert f"paper interfaces, {cone} friction cone)" in r.stdout
     r2 = run_module("limit", "solve", SIDE, "--method", "lp")
     assert "paper interfaces)" in r2.stdout and "friction cone" not in r2.stdout
+
+
+def test_solve_keeps_its_result_in_the_cache(tmp_path, write_scene, monkeypatch, capsys):
+    """A second `limit solve` of the same scene with the same options comes from the cache (same
+    lines printed, the same result file); another option, a changed scene or --no-cache solve again."""
+    import json as _json
+
+    from limit.cli import main
+    from scenes import builders as B
+
+    monkeypatch.delenv("LIMIT_NO_CACHE", raising=False)
+    scene = write_scene(B.portal(dim=2, name="cached-portal"))
+    args = ["solve", str(scene), "--cache", str(tmp_path / "c")]
+    assert main(args + ["--json", str(tmp_path / "a.json")]) == 0
+    first = capsys.readouterr()
+    assert "result cache" not in first.err
+    assert main(args + ["--json", str(tmp_path / "b.json")]) == 0
+    second = capsys.readouterr()
+    assert "from the result cache" in second.err and second.out == first.out
+    a, b = (_json.loads((tmp_path / f).read_text()) for f in ("a.json", "b.json"))
+    assert a == b
+    assert main(args + ["--method", "lp"]) == 0 and "result cache" not in capsys.readouterr().err
+    assert main(args + ["--no-cache"]) == 0 and "result cache" not in capsys.readouterr().err
+    d = B.portal(dim=2, name="cached-portal")
+    d["friction"] = 0.9
+    scene.write_text(_json.dumps(d))
+    assert main(args) == 0 and "result cache" not in capsys.readouterr().err

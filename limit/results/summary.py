@@ -20,6 +20,9 @@ def format_result(res: dict) -> str:
     if lp["status"] == "optimal" and sol is not None:
         lines.append("  mechanism (associative):")
         lines += ["  " + s for s in mechanism.summary_lines(res["_assembled"], sol.u)]
+    elif lp["status"] == "optimal" and (lp.get("interfaces") or {}).get("pairs"):  # a result file's
+        lines.append("  mechanism (associative):")
+        lines += ["  " + s for s in _joint_lines(lp["interfaces"], res["dim"])]
     nlp = res.get("nlp")
     if nlp:
         lines.append(f"NLP ({nlp.get('solver', '-')}): {_alpha(nlp)}  [{nlp['status']}, {nlp.get('time_s', 0):.3g} s]"
@@ -48,3 +51,17 @@ def format_result(res: dict) -> str:
             lines.append(f"iterative LP (Gilbert et al. 2006): {'alpha = %.6g' % a if a is not None else '-'}  "
                          f"[{it['status']}, {it.get('iterations')} LPs]")
     return "\n".join(lines)
+
+
+def _joint_lines(ifaces: dict, dim: int, limit: int = 8) -> list[str]:
+    """The lines of :func:`limit.solve.mechanism.summary_lines` from a result file's ``interfaces``
+    part (the joint indices that rock, slide, twist, and the block pairs)."""
+    names = [f"{a}|{b}" for a, b in ifaces["pairs"]]
+    out = []
+    for key in ("rock", "slide", "twist"):
+        if dim == 2 and key == "twist":
+            continue
+        idx = list(ifaces.get(key) or [])
+        shown = ", ".join(names[i] for i in idx[:limit]) + (f", ... ({len(idx) - limit} more)" if len(idx) > limit else "")
+        out.append(f"  {key:5s} {len(idx):4d} interface(s){': ' + shown if idx else ''}")
+    return out
