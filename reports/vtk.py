@@ -58,7 +58,7 @@ def motions_of(result: dict) -> dict:
 
 
 def _string_field(name: str, values) -> list[str]:
-    return [f"FIELD FieldData 1", f"{name} 1 {len(values)} string"] + [str(v).replace("%", "%25").replace(" ", "%20")
+    return ["FIELD FieldData 1", f"{name} 1 {len(values)} string"] + [str(v).replace("%", "%25").replace(" ", "%20")
                                                                         for v in values]
 
 
