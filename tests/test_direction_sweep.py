@@ -99,3 +99,28 @@ def test_the_frictional_minimum_is_told_apart_only_when_lower():
     out["alpha_frictional"] = [0.16, 1 / 6]
     out["min_alpha_frictional"] = 0.16
     assert _worse_elsewhere(out)
+
+
+def test_the_frictional_worst_direction_is_not_the_lps():
+    """The catalog's 3 x 3 running-bond wall (wall-3x3-opening-2d) built in 3D, 0.6 m thick, 1.2 m
+    high, mu 1.2, swept every 90 degrees with step 2 in each direction.
+
+    In its plane (+x) the LP's dilatant mechanism needs alpha = 1 and the frictional one 5/14 (the
+    catalog scene's hand derivation: two blocks turning about the toe (1.2, 0.4) while the joints
+    above open and slide at zero normal force). Out of its plane (+-y) the wall overturns about its
+    base edge, alpha = (T/2) / (H/2) = 0.6 / 1.2 = 0.5, the LP's and step 2's alike. So the LP's
+    worst direction is +-y (0.5), and the frictional one +x (5/14): the LP's sweep alone points the
+    engineer at the wrong direction. Along -x the mirror image of the +x mechanism gives 5/14 too;
+    step 2, a local search, may stop above it there (it returns 0.4677), never below."""
+    data = B.running_bond_wall(3, 3, dim=3, L=0.4, H=0.4, T=0.6, mu=1.2, name="wall-3x3-3d")
+    out = sweep(data, 90.0, jobs=1, every=True)
+    assert out["alpha"] == pytest.approx([1.0, 0.5, 1.0, 0.5], rel=1e-6)
+    assert out["min_theta"] in (90.0, 270.0) and out["min_alpha"] == pytest.approx(0.5, rel=1e-6)
+    fric = out["alpha_frictional"]
+    assert fric[0] == pytest.approx(5 / 14, rel=1e-4)
+    assert fric[1] == pytest.approx(0.5, rel=1e-6) and fric[3] == pytest.approx(0.5, rel=1e-6)
+    assert 5 / 14 * (1 - 1e-4) <= fric[2] <= 1.0
+    assert out["min_theta_frictional"] == 0.0 and out["min_alpha_frictional"] == pytest.approx(5 / 14, rel=1e-4)
+    from limit.cli import _worse_elsewhere
+
+    assert _worse_elsewhere(out)
