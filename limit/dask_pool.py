@@ -9,7 +9,8 @@ from contextlib import contextmanager
 
 @contextmanager
 def dask_client(jobs: int | None = None, scheduler: str | None = None):
-    """Yield a ``dask.distributed.Client``; a local cluster is closed on exit."""
+    """Yield a ``dask.distributed.Client``; a local cluster is closed on exit. Its dashboard takes
+    a free port (":0"), so a second cluster on the machine prints no port warning."""
     from dask.distributed import Client, LocalCluster
 
     cluster = None
@@ -17,7 +18,7 @@ def dask_client(jobs: int | None = None, scheduler: str | None = None):
         client = Client(scheduler)
     else:
         n = jobs or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                                silence_logs=40)
         client = Client(cluster)
     try:
