@@ -234,15 +234,16 @@ def report(df, files, results: dict, out: Path, wall_time: float | None = None) 
     for s in scenes:
         r = rows.get(s["name"])
         s.update(explain=explain(r) if r is not None else [], subtitle=_subtitle(r))
-    script = view3d.script_tag(out / "plotly.min.js") if any(s["views"] for s in scenes) else ""
+    script = view3d.script(out / "plotly.min.js") if any(s["views"] for s in scenes) else {}
     (out / "index.html").write_text(catalog_html(df, scenes, stamp, wall_time, example, script))
     (out / "index.md").write_text(_markdown(df, mech_png, stamp, wall_time, cap_png, example))
 
 
-def catalog_html(df, scenes=(), stamp: str = "", wall_time: float | None = None, example=(), script: str = "") -> str:
+def catalog_html(df, scenes=(), stamp: str = "", wall_time: float | None = None, example=(), script=None) -> str:
     """The catalog page: the summary, the table, the overview, ``example`` (markdown lines) and
-    one section per scene of ``scenes`` (:func:`_scene_figures` with ``explain`` and ``subtitle``)."""
-    return render("catalog.html", title=TITLE, stamp=stamp, wall_time=wall_time, legend=LEGEND, plotly_script=script,
+    one section per scene of ``scenes`` (:func:`_scene_figures` with ``explain`` and ``subtitle``);
+    ``script``: :func:`reports.view3d.script` where the sections have interactive views."""
+    return render("catalog.html", title=TITLE, stamp=stamp, wall_time=wall_time, legend=LEGEND, **(script or {}),
                   summary=summary_lines(df), head=HEAD, rows=_rows(df), blocks=md_blocks(example), scenes=list(scenes))
 
 

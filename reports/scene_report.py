@@ -111,7 +111,7 @@ def scene_page(df, path: Path, results: dict, out: Path, wall_time: float | None
     page = render.render("scene.html", title=f"{name}: limit analysis against DEM", stamp=stamp, wall_time=wall_time,
                          legend=render.LEGEND.split(" Blocks and")[0] + f" Blocks and motions for ParaView: "
                                                                          f"vtk/{name}.vtk; the table: results.csv.",
-                         plotly_script=view3d.script_tag() if s["views"] else "", summary=[{"text": t, "href": None} for t in render.scene_summary(r, la)],
+                         **(view3d.script() if s["views"] else {}), summary=[{"text": t, "href": None} for t in render.scene_summary(r, la)],
                          head=render.HEAD, rows=render._rows(df), scenes=[s])
     html_path = out / f"{name}.html"
     html_path.write_text(page)

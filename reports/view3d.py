@@ -1,6 +1,6 @@
 """The report's interactive mechanism view: one plotly figure per motion (the limit analysis's
 mechanism, each dynamic engine's displacement at collapse), offline (the page carries plotly's
-script itself, see :func:`script_tag`).
+script itself, see :func:`script`).
 
 Each figure shows the blocks coloured by the size of their motion, the motion animated from rest
 to full amplitude (play, pause, and a slider that sets the amplitude), the joints that hinge or
@@ -286,16 +286,17 @@ def divs(scene, la: dict | None, engines: dict, include_js) -> list[str]:
             for title, m, ifaces in motions(la, engines)]
 
 
-def script_tag(path=None) -> str:
-    """plotly's script: inlined (``path`` None), or written to ``path`` once and referred to by
-    its file name (the catalog's pages share one copy)."""
+def script(path=None) -> dict:
+    """plotly's script for the page template (``layout.html``): {"plotly_js": the script, to inline}
+    with ``path`` None, else written to ``path`` once and {"plotly_src": its file name} (the catalog's
+    pages share one copy)."""
     from plotly.offline import get_plotlyjs
 
     if path is None:
-        return f"<script>{get_plotlyjs()}</script>"
+        return {"plotly_js": get_plotlyjs()}
     from pathlib import Path
 
     path = Path(path)
     if not path.exists():
         path.write_text(get_plotlyjs())
-    return f"<script src='{path.name}'></script>"
+    return {"plotly_src": path.name}

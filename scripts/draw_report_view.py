@@ -28,8 +28,10 @@ def main(out: str = "docs/img/report-view.png") -> int:
     data["name"] = "corner"
     data["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]  # out of the x wall's plane
     la = run_la(data, {**la_options(data), "global_max_free": 0, "iterative_max_free": 0})
-    page = ("<html><head><meta charset='utf-8'>" + view3d.script_tag() + "</head><body style='margin:0'>"
-            + "".join(view3d.divs(load_scene(data), la, {}, include_js=False)) + "</body></html>")
+    from reports import render
+
+    page = render.render("view.html", title="", stamp="", wall_time=None, legend="", **view3d.script(),
+                         views=view3d.divs(load_scene(data), la, {}, include_js=False))
     exe = shutil.which("chromium")
     if exe is None:
         print("chromium is not installed (scripts/bootstrap.sh installs it)", file=sys.stderr)

@@ -33,5 +33,5 @@ def plot_mechanism(scene, res: dict, path) -> list:
                                   stamp=datetime.datetime.now().strftime("%Y-%m-%d %H:%M"),
                                   legend="Drag to turn, scroll to zoom; play animates the motion, the slider sets "
                                          "its amplitude; colour: the size of each block's motion.",
-                                  plotly_script=view3d.script_tag(), views=view3d.divs(scene, res, {}, include_js=False)))
+                                  **view3d.script(), views=view3d.divs(scene, res, {}, include_js=False)))
     return [png, page]
