@@ -166,8 +166,16 @@ def figure(scene, per_block: dict, title: str, ifaces: dict | None = None):
                       height=480, legend={"x": 0.0, "y": 1.0}, **_controls(FRAMES))
     if scene.dim == 3:
         fig.update_layout(scene={"aspectmode": "data", "xaxis_title": "x", "yaxis_title": "y", "zaxis_title": "z"})
-    else:
-        fig.update_layout(xaxis={"title": "x", "scaleanchor": "y"}, yaxis={"title": "y"}, plot_bgcolor="white")
+    else:  # the whole motion in view (autorange follows the first frame only), at equal scales
+        pts = [p.vertices for _, p in still] + [p.vertices + t * d for (_, p), d in zip(pieces, motions)
+                                                for t in (0.0, 1.0)]
+        P = np.vstack(pts) if pts else np.zeros((1, 2))
+        lo, hi = P.min(axis=0), P.max(axis=0)
+        pad = 0.05 * float((hi - lo).max() or 1.0)
+        fig.update_layout(xaxis={"title": "x", "range": [lo[0] - pad, hi[0] + pad], "constrain": "domain"},
+                          yaxis={"title": "y", "range": [lo[1] - pad, hi[1] + pad], "scaleanchor": "x",
+                                 "constrain": "domain"},
+                          plot_bgcolor="white", legend={"x": 1.02, "y": 1.0, "xanchor": "left"})
     return fig
 
 
