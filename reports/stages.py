@@ -33,12 +33,9 @@ ITERATIVE_MAX_FREE = 80
 GLOBAL_TIME_LIMIT = 60.0
 #: limits of one scene's stage: the engine's CPU seconds, at least these and COST_FACTOR x the
 #: scene's measured cost (``meta.<stage>.cost_s``, on this project's usual 2-core machine), and
-#: the wall clock, WALL_FACTOR x that, as the guard against a hung engine. The slowest YADE stage
-#: (Fig. 2b) needs about 690 s of CPU on the usual machine. A fixed wall-clock limit of 1,500 s
-#: failed both Fig. 2b and the 70-stone Fig. 3 wall (426 s there) on a machine 2.7 times slower
-#: whose cores were shared (killed at 1,500 s with 1,150 s of CPU used each); with 4 x
-#: the cost the 70-stone wall was killed again, at 1,704 s of CPU (2,544 s on the wall clock, the
-#: cores shared with a test run): on that machine, busy, it needs over 4 times its measured cost.
+#: the wall clock, WALL_FACTOR x that, as the guard against a hung engine. The limits are in CPU
+#: seconds and generous because a slower or busy machine needs several times the measured cost
+#: (docs/performance.md, 'Measurements moved from code comments').
 DEM_CPU_LIMIT = 1500.0
 LMGC_CPU_LIMIT = 900.0
 COST_FACTOR = 10.0

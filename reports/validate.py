@@ -84,8 +84,8 @@ def stage_cost(stage: str, data: dict) -> float:
     """Expected CPU seconds of a stage: the measured ``meta.<stage>.cost_s`` of the scene where
     scenes/catalog.py recorded one (``dem``: YADE, ``lmgc``: LMGC90), else an estimate from
     its size (the DEM's vertex spheres x :data:`DEM_S_PER_SPHERE`; a limit analysis 0.1 s per
-    free block in 2D, 0.5 s in 3D). Measured costs matter: by size alone the 17-block Fig. 5
-    (5 minutes of YADE) started 25 minutes into the run and ended it 80 s after everything else."""
+    free block in 2D, 0.5 s in 3D). Measured costs matter: size alone ranks a small but slow scene
+    (the 17-block Fig. 5) late, and it then ends the run after everything else."""
     cost = ((data.get("meta") or {}).get(stage) or {}).get("cost_s")
     if cost is not None:
         return float(cost)

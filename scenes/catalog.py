@@ -18,8 +18,8 @@ CATALOG_DIR = Path(__file__).resolve().parent / "catalog"
 
 #: measured cost (CPU s) of each scene's YADE stage and LMGC90 stage on this project's 2-core
 #: machine, for the validation to start the costliest stages first; written to meta.dem.cost_s
-#: and meta.lmgc.cost_s. YADE: fresh-clone ``make validate`` (the five above 60 s one run each).
-#: LMGC90: one run each, two at a time, searching from the frictional alpha.
+#: and meta.lmgc.cost_s (how they were measured: docs/performance.md, 'Catalog, benchmarks and
+#: DEM stages').
 DEM_COST_S = {"paper-fig2b-double-arch-2d": 689, "paper-fig3-opus-poligonale-70-2d": 426,
               "paper-fig6-intersecting-walls-3d": 309, "paper-fig5-trilithic-3d": 295,
               "paper-fig7-fountain-full-3d": 277, "paper-fig3-opus-poligonale-40-2d": 236, "corner-walls-3d": 119,
@@ -85,10 +85,9 @@ def entries() -> dict:
     oop["meta"] = {"sweep": {"step": 5},  # the worst direction: half the circle solved, by the symmetry
                    "notes": "The LP's mechanism (overturning about the base edge, t/H) has no sliding, so step 2 "
                             "is skipped and t/H is reported. It is a frictional collapse state but not the lowest: "
-                            "the MILP of limit/solve/milp.py, stopped at 400 s without a proof (how far it gets "
-                            "depends on the machine's speed), found ones that pass the independent check, "
-                            "0.18723 and 0.18173 in two runs (4 interfaces slide, 2 twist, 5 rock), up to 4.6 % "
-                            "lower; `limit solve --global --global-time-limit 400` reports such a point as the "
+                            "the MILP of limit/solve/milp.py, given 400 s without proving its optimum, finds states "
+                            "that pass the independent check up to 4.6 % lower (0.18173: 4 interfaces slide, 2 "
+                            "twist, 5 rock; docs/performance.md); `limit solve --global --global-time-limit 400` reports such a point as the "
                             "answer. Step 2 run anyway stays at t/H, and both engines follow t/H: a monotonic "
                             "pushover need not reach the lowest frictional collapse state."}
     add(oop)

@@ -355,7 +355,7 @@ def test_a_snap_whose_interior_point_pieces_all_diverge_asks_no_other_backend(mo
     assert ("clarabel" in asked) is not trust
 
 
-@pytest.mark.slow  # about a minute: 27 interior point LPs of 1,220 blocks and one snap
+@pytest.mark.slow  # 27 interior point LPs of 1,220 blocks and one snap
 def test_a_wall_whose_statics_stay_degenerate_verifies_by_the_least_slack_snap():
     """The 1,220-block running-bond wall of issue 48 (units 0.25 x 0.1 m, mu 0.7; built with the
     wall generator as ``limit build wall --length 7.5 --height 4.0 --unit 0.25 0.12 0.1 --mu 0.7``),

@@ -30,7 +30,7 @@ def test_members_are_reproducible_and_cover_the_ranges():
         assert 0.75 * m["target_blocks"] <= n <= 1.25 * m["target_blocks"], (sc["name"], n, m["target_blocks"])
 
 
-@pytest.mark.slow  # about 45 s: the large route's three starts on a 348-block wall
+@pytest.mark.slow  # the large route's three starts on a 348-block wall
 def test_family_member_4_verifies():
     """Member 4 of seed 0 (2D Flemish bond, 348 blocks, mu 0.7): without the least-slack snap every
     start of the large route failed (152 LPs; docs/performance.md, 'The wall family'). Step 2 must

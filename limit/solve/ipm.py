@@ -48,16 +48,12 @@ REG_N_MAX = 1e-7
 ALPHA_DIVERGED = 1e9
 #: rounds of iterative refinement of each Newton step
 REFINE = 3
-#: ... of the predictor, which only sets the centring and the corrector's second-order term. Measured
-#: unrefined (ipm.solve of the step-1 LP): 3,052 2D blocks 3.14 s against
-#: 3.50 s (63 iterations both); 10,050 2D blocks 18.7 s against 21.2 s (87 and 85 iterations); 3D
-#: 1,017 blocks 1.87 s against 1.79 s (39 both); the same alphas to 1e-9
+#: ... of the predictor, which only sets the centring and the corrector's second-order term: none
+#: (the same alphas, fewer seconds; docs/performance.md, 'Measurements moved from code comments')
 REFINE_PREDICTOR = 0
 #: Gondzio's centrality correctors per iteration (:func:`_centrality_correctors`) and their
-#: parameters. Measured (ipm.solve of the step-1 LP),
-#: 0 / 1 / 2 / 3 correctors: 3,052 2D blocks 63 / 61 / 48 / 49 iterations (3.38 / 3.34 / 2.97 /
-#: 2.98 s); 10,050 2D blocks 87 / - / 68 / 62 iterations (18.1 / - / 15.4 / 14.9 s); 3D 3,024
-#: blocks 51 / - / 39 / - (8.17 / - / 6.69 s)
+#: parameters: two cut the step-1 LP's iterations by about a fifth (docs/performance.md,
+#: 'Measurements moved from code comments')
 MCC = 2
 MCC_DELTA = 0.2
 MCC_BETA_MIN = 0.1

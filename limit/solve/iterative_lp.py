@@ -118,10 +118,9 @@ NSTAR_FLOOR = 1e-8
 NSTAR_FLOOR_MAX = 1e-4
 #: Gondzio's centrality correctors in each LP of the ipm backend (ipm.solve's ``correctors``): none.
 #: An LP whose optimal face is more than one point returns another point of it with them (they
-#: centre less), and the point taken steers the iteration: the confined block of scenes/builders.py
-#: diverged with 2 (N* growing tenfold per LP) and settled at 1.44 without; the 10,050-block 2D
-#: wall's route (proximal QPs) took 67 and 48 LPs for its two starts with 2 instead of 45 and 33
-#: (444 s against 364 s), although each LP was about 18 % faster
+#: centre less), and the point taken steers the iteration: with them the confined block of
+#: scenes/builders.py diverges and the large walls' route needs more LPs (docs/performance.md,
+#: 'Measurements moved from code comments')
 ITERATIVE_CORRECTORS = 0
 #: ipm.solve's ``almost`` in each LP: an LP whose residuals stall short of its tolerance but below
 #: this gives its best iterate (each iterate is checked independently, and only a snapped,

@@ -92,7 +92,7 @@ LEAST_SLACK_SUPPORT = 1e-6
 #: of SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first: a failed snap costs
 #: there more than several LPs
 VERY_LARGE_MIN_FREE = 5000
-#: ... in these dimensions (the 3D walls measured stop at about 3,000 blocks)
+#: ... in these dimensions (2D only: no 3D wall reaches VERY_LARGE_MIN_FREE in the benchmarks)
 VERY_LARGE_DIMS = (2,)
 SNAP_COMP_LARGE = 1e-4
 SNAP_PLATEAU_LARGE = 1e-3
