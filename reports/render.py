@@ -311,10 +311,13 @@ def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: b
     figs.mkdir(parents=True, exist_ok=True)
     lm = results.get((name, "lmgc")) or {}
     try:
+        from limit.geom.interfaces import find_interfaces
+
         scene = scene if scene is not None else load_scene(path)
+        I = find_interfaces(scene)  # once: the joints file and the views mark the same joints
         vtk = out / "vtk" / f"{name}.vtk"
         write_vtk(scene, motions_of({**la, "dem": dem or {}, "lmgc": lm}), vtk)
-        write_joints_vtk(scene, la, joints_path(vtk))
+        write_joints_vtk(scene, la, joints_path(vtk), interfaces=I)
         if plots.mechanism_figure(scene, la, dem, figs / f"{name}.png"):
             s["mech_png"] = f"figures/{name}.png"
         row = df[df["name"] == name]
@@ -325,7 +328,7 @@ def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: b
         if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name, lmgc=lm, kinematic=kin):
             s["cap_png"] = f"figures/{name}-capacity.png"
         if views and len(scene.blocks) <= VIEW_MAX_BLOCKS:
-            s["views"] = view3d.divs(scene, la, {"YADE": dem, "LMGC90": lm}, include_js=False)
+            s["views"] = view3d.divs(scene, la, {"YADE": dem, "LMGC90": lm}, include_js=False, interfaces=I)
     except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is noted, not fatal
         s["mech_failed"] = s["mech_png"] is None
         print(f"report: no figure for {name}: {exc}")

@@ -88,13 +88,13 @@ def _f32(a):
     return np.asarray(a, dtype=np.float32)
 
 
-def _joints(scene, ifaces: dict | None) -> list[tuple[str, np.ndarray]]:
+def _joints(scene, ifaces: dict | None, I=None) -> list[tuple[str, np.ndarray]]:
     """[(state, centroids (k, dim))] of the joints in each state of :data:`JOINT_STYLE`."""
     if not ifaces:
         return []
     from limit.geom.interfaces import find_interfaces
 
-    I = find_interfaces(scene)
+    I = find_interfaces(scene) if I is None else I
     out = []
     for state in JOINT_STYLE:
         idx = sorted(set(ifaces.get(state, [])) | (set(ifaces.get("open", [])) if state == "rock" else set()))
@@ -136,7 +136,7 @@ def _controls(n_frames: int) -> dict:
                          "currentvalue": {"prefix": "amplitude "}, "steps": steps}]}
 
 
-def figure(scene, per_block: dict, title: str, ifaces: dict | None = None):
+def figure(scene, per_block: dict, title: str, ifaces: dict | None = None, interfaces=None):
     """The animated figure of one motion (``per_block``: {block id: [u..., r...]}); ``ifaces``:
     the result's ``interfaces`` part (indices of the joints that rock, open, slide, twist) or None."""
     import plotly.graph_objects as go
@@ -155,7 +155,7 @@ def figure(scene, per_block: dict, title: str, ifaces: dict | None = None):
     still = _pieces(scene, [b.index for b in scene.blocks if b.index not in moves])
     motions = [scale * d for d in _motion_field(scene, per_block, pieces)[0]]
     amps = np.linspace(0.0, 1.0, FRAMES)
-    joints, (LP, LV) = _joints(scene, ifaces), _loads(scene)
+    joints, (LP, LV) = _joints(scene, ifaces, interfaces), _loads(scene)
     if scene.dim == 3:
         data, frame_data = _traces3d(go, pieces, still, motions, amps, joints, LP, LV)
     else:
@@ -285,10 +285,11 @@ def motions(la: dict | None, engines: dict) -> list[tuple[str, dict, dict | None
     return out
 
 
-def divs(scene, la: dict | None, engines: dict, include_js) -> list[str]:
+def divs(scene, la: dict | None, engines: dict, include_js, interfaces=None) -> list[str]:
     """The HTML ``<div>``s of the figures of :func:`motions` (plotly's ``include_plotlyjs``:
-    False where the page carries the script, see :func:`script_tag`)."""
-    return [figure(scene, m, title, ifaces).to_html(full_html=False, include_plotlyjs=include_js,
+    False where the page carries the script, see :func:`script`); ``interfaces``: the scene's,
+    where the caller has them."""
+    return [figure(scene, m, title, ifaces, interfaces).to_html(full_html=False, include_plotlyjs=include_js,
                                                     config={"displaylogo": False, "responsive": True},
                                                     auto_play=False)
             for title, m, ifaces in motions(la, engines)]

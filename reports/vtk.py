@@ -121,13 +121,13 @@ def write_vtk(scene, motions: dict, path) -> Path:
     return p
 
 
-def write_joints_vtk(scene, result: dict, path) -> Path:
+def write_joints_vtk(scene, result: dict, path, interfaces=None) -> Path:
     """The joints file (see the module's docstring) of ``scene`` with the states of the result's
     ``lp`` and ``nlp`` parts (their ``interfaces``: indices of the joints that rock, open, slide,
     twist; a part without them gives 0 everywhere)."""
     from limit.geom.interfaces import find_interfaces
 
-    I = find_interfaces(scene)
+    I = find_interfaces(scene) if interfaces is None else interfaces
     polys = [np.asarray(I.polygons[j], dtype=float) for j in range(len(I))]
     pts, cells, offset = [], [], 0
     for V in polys:
