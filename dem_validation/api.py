@@ -32,7 +32,7 @@ import numpy as np
 
 from . import params as P
 from .extrapolate import richardson
-from .job import build_job
+from .job import build_job, unmodelled
 from .runner import failed, run_job
 
 
@@ -90,6 +90,9 @@ def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep
         return failed(f"contact polyhedra: one convex body per block, and block '{compound[0]}' is compound "
                       "(the vertex model, the default, clumps its parts)", time_s=0.0, params=used)
     I = find_interfaces(scene) if interfaces is None else interfaces
+    why = unmodelled(I)
+    if why:
+        return {"status": "skipped", "alpha": None, "reason": why, "time_s": 0.0, "params": used}
     f0, fL = dead_and_live(scene)
     try:
         job = build_job(scene, I, f0, fL, p, contact=contact)

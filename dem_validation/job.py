@@ -195,3 +195,15 @@ def _friction_pairs(scene, interfaces) -> list:
         if float(mu) != float(scene.friction) or (min(a, b), max(a, b)) in pairs:
             pairs[(int(min(a, b)), int(max(a, b)))] = float(mu)
     return [[int(i), int(j), float(mu)] for (i, j), mu in sorted(pairs.items())]
+
+
+def unmodelled(interfaces) -> str | None:
+    """Why neither engine can run a scene with these interfaces (None: both can): the contact
+    laws of both are dry Coulomb friction, so a joint with cohesion or tensile strength (the
+    scene's ``joints`` groups) is not modelled, and the run is skipped with this reason."""
+    if getattr(interfaces, "bonded", False):
+        n = int(((interfaces.cohesion > 0) | (interfaces.tensile > 0)).sum())
+        return (f"{n} joint(s) have cohesion or tensile strength; the DEM contact laws are dry Coulomb "
+                "friction, so the dynamic check does not model them")
+    return None
+

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 
-from .job import build_job
+from .job import build_job, unmodelled
 from .lmgc_main import knobs as check_knobs
 from .runner import failed, run_job
 
@@ -29,6 +29,9 @@ def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep
     if not len(scene.free):
         return {"status": "stable", "alpha": None, "note": "no free block: nothing can move", "time_s": 0.0, **base}
     I = find_interfaces(scene) if interfaces is None else interfaces
+    why = unmodelled(I)
+    if why:
+        return {"status": "skipped", "alpha": None, "reason": why, "time_s": 0.0, **base}
     f0, fL = dead_and_live(scene)
     job = build_job(scene, I, f0, fL, {}, contact="polyhedra")
     job.update(gravity=[float(x) for x in scene.gravity], rigid=p)

@@ -94,6 +94,11 @@ def _parser() -> argparse.ArgumentParser:
         pc.add_argument(f"--{k}", type=float, default=None, help=f"{h} (default {v:g}, or the site's with --Tc-star)")
     for k, v, h in (("q", 2.0, "behaviour factor"), ("Z", 0.0, "height of the mechanism's base (m; 0: ground level)")):
         pc.add_argument(f"--{k}", type=float, default=v, help=f"{h} (default {v:g})")
+    pc.add_argument("--sld-ag", type=float, default=None, metavar="G",
+                    help="the damage limit state's ag on rock (g): adds the linear SLD check (Circolare 617/2009 "
+                         "C8A.4.2.3); its spectrum from --sld-F0 and --sld-Tc-star with the site, else --S")
+    pc.add_argument("--sld-F0", type=float, default=None, help="spectral amplification at SLD")
+    pc.add_argument("--sld-Tc-star", type=float, default=None, metavar="S", help="Tc* at SLD (s)")
     pc.add_argument("--H", type=float, default=None, help="building height (m), with Z > 0")
     pc.add_argument("--N", type=int, default=None, help="storeys, with Z > 0")
     pc.add_argument("--T1", type=float, default=None, help="building's first period (s), with Z > 0")
@@ -148,14 +153,22 @@ def cmd_check(args) -> int:
     if args.fc is not None and not (args.fc >= 1.0):
         raise SceneError(f"--fc: the confidence factor must be >= 1, got {args.fc}")
     demand = None
+    if args.sld_ag is not None and args.ag is None:
+        raise SceneError("--sld-ag: give --ag too (the demand it belongs to); a scene's own demand takes its "
+                         "damage limit state from demand.SLD")
     if args.ag is not None:
         given = dict(ag_g=args.ag, S=args.S, F0=args.F0, TB=args.TB, TC=args.TC, TD=args.TD, q=args.q, Z=args.Z,
                      H=args.H, N=args.N, T1=args.T1, xi1=args.xi1, xi_mech=args.xi_mech, Tc_star=args.Tc_star,
                      soil=args.soil, topography=args.topography, topography_ratio=args.topography_ratio)
+        if args.sld_ag is not None:
+            given["SLD"] = {k: v for k, v in dict(ag_g=args.sld_ag, F0=args.sld_F0, Tc_star=args.sld_Tc_star).items()
+                            if v is not None}
         try:
             demand = from_mapping({k: v for k, v in given.items() if v is not None})
         except ValueError as exc:
-            raise SceneError(str(exc).replace("demand.ag_g", "--ag").replace("demand.xi_mech", "--xi-mech")
+            raise SceneError(str(exc).replace("demand.SLD.ag_g", "--sld-ag").replace("demand.SLD.F0", "--sld-F0")
+                             .replace("demand.SLD.Tc_star", "--sld-Tc-star")
+                             .replace("demand.ag_g", "--ag").replace("demand.xi_mech", "--xi-mech")
                              .replace("demand.Tc_star", "--Tc-star").replace("demand.topography_ratio",
                                                                              "--topography-ratio")
                              .replace("demand.", "--")) from None

@@ -77,7 +77,7 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     if backend == "highs" and any(p[2] == "sla" for p in plan):
         lo, hi = N.bounds()
         lo[N.ia] = 0.0
-        lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, np.zeros(N.Yx.shape[0]), lo, hi)
+        lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, N.kh, lo, hi)
     runs, best = [], None
     coarse = "coarse" in strategies and nlp_starts.coarse_slide_faces(P) is not None
     k = -1

@@ -203,3 +203,55 @@ def test_demand_mutants_are_rejected_or_checked():
         counts["checked"] += 1
         counts["site"] += bool((res["verdict"].get("demand") or {}).get("site"))
     assert counts["rejected"] > 10 and counts["checked"] > 10 and counts["site"] > 3, counts
+
+
+JOINTS_SEED, JOINTS_MUTANTS = 20261129, 60
+JOINT_KEYS = ["mu", "cohesion", "tensile_strength", "fc", "between", "colour"]
+JOINT_VALUES = ODD + [0.2, 0.6, 1.5, 500.0, 2e4, 3e5, {"blocks": ["s0", "s1"]}, {"tags": ["course-0", "course-1"]},
+                      {"tags": ["course-0"]}, {"blocks": ["s0", "s0"]}, {"blocks": ["s0", "nope"]}, {"plane": [0, 1]}]
+
+
+@pytest.mark.slow  # steps 1 and 2 of every mutant that loads (3 blocks each)
+def test_joint_group_mutants_are_rejected_or_analysed():
+    """Mutated ``joints`` entries on a three-block stack (given one valid group with mu, cohesion
+    and tension): keys set to odd or plausible values, deleted, entries added or dropped. Each
+    mutant is rejected naming ``joints[k]``, or analysed (both steps) to a status, never an
+    internal error; bonded mutants among them."""
+    from scenes import builders as B
+
+    rng = random.Random(JOINTS_SEED)
+    base = B.stack(3, dim=2, b=0.5, h=0.3, mu=0.6)
+    base["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "mu": 0.4, "cohesion": 2000.0,
+                       "tensile_strength": 500.0}]
+    counts = {"rejected": 0, "analysed": 0, "bonded": 0}
+    for k in range(JOINTS_MUTANTS):
+        m = copy.deepcopy(base)
+        js = m["joints"]
+        if rng.random() < 0.2:
+            js.append(copy.deepcopy(rng.choice(js)) if js else {})
+        if js and rng.random() < 0.1:
+            js.pop(rng.randrange(len(js)))
+        for _ in range(rng.choice([1, 1, 2])):
+            if not js:
+                break
+            e = rng.choice(js)
+            key = rng.choice(JOINT_KEYS)
+            if rng.random() < 0.2:
+                e.pop(key, None)
+            else:
+                e[key] = copy.deepcopy(rng.choice(JOINT_VALUES))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SceneWarning)
+            try:
+                res = analyse(load_scene(m), method="auto")
+            except SceneError as exc:
+                assert "joints" in str(exc), (k, str(exc))
+                counts["rejected"] += 1
+                continue
+            except Exception as exc:  # noqa: BLE001 - the failure this test exists to catch
+                pytest.fail(f"mutant {k}: internal error {type(exc).__name__}: {exc}\n{json.dumps(m['joints'])}")
+        assert res["lp"]["status"] in STATUSES, (k, res["lp"])
+        counts["analysed"] += 1
+        counts["bonded"] += any((e.get("cohesion") or 0) > 0 or (e.get("tensile_strength") or 0) > 0
+                                for e in js if isinstance(e, dict))
+    assert counts["rejected"] > 5 and counts["analysed"] > 10 and counts["bonded"] > 5, counts

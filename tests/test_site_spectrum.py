@@ -115,3 +115,52 @@ def test_limit_check_derives_the_spectrum_from_the_site(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "limit", "check", str(p), "--ag", "0.25", "--soil", "B"],
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "--Tc-star" in bad.stderr
+
+
+def test_the_damage_check_at_ground_level_uses_the_sld_hazard_without_q(tmp_path):
+    """Circolare 617/2009 C8A.4.7: a0* >= ag(SLD) S, no behaviour factor. With an explicit S = 1.2
+    shared by the SLD: 0.08 x 9.81 x 1.2 = 0.94176 m/s^2 (the SLV's linear demand is 0.2 x 9.81 x
+    1.2 / 2 = 1.1772). On the site (soil C, the SLD's F0 2.45, ag 0.10 g): SS = 1.70 - 0.60 x 2.45
+    x 0.10 = 1.553, clipped to 1.50, so 0.10 x 9.81 x 1.5 = 1.4715 m/s^2, while the SLV (F0 2.4,
+    ag 0.25 g) has SS = 1.70 - 0.60 x 2.4 x 0.25 = 1.34. The verdict's ratio is a0* over it."""
+    from limit.analysis import analyse
+    from scenes import builders as B
+
+    d = from_mapping({"ag_g": 0.2, "S": 1.2, "SLD": {"ag_g": 0.08}})
+    assert d.sld.S == 1.2 and d.sld.ag_g == 0.08
+    site = from_mapping({"ag_g": 0.25, "F0": 2.4, "Tc_star": 0.3, "soil": "C",
+                         "SLD": {"ag_g": 0.10, "F0": 2.45, "Tc_star": 0.25}})
+    assert site.S == pytest.approx(1.34) and site.sld.S == pytest.approx(1.5)
+    sc = B.single_block(dim=2, b=0.3, h=1.0, mu=0.6)
+    sc["demand"] = {"ag_g": 0.2, "S": 1.2, "SLD": {"ag_g": 0.08}}
+    v = analyse(load_scene(sc), method="lp")["verdict"]
+    a0 = v["linear"]["a0_star"]
+    dm = v["check"]["damage"]
+    assert dm["demand"] == pytest.approx(0.08 * 9.81 * 1.2, rel=1e-12)
+    assert dm["ratio"] == pytest.approx(a0 / dm["demand"], rel=1e-12) and dm["pass"] == (a0 >= dm["demand"])
+    assert v["check"]["linear"]["demand"] == pytest.approx(0.2 * 9.81 * 1.2 / 2, rel=1e-12)
+    assert v["demand"]["SLD"]["ag_g"] == 0.08
+    p = tmp_path / "block.json"
+    p.write_text(json.dumps(B.single_block(dim=2, b=0.3, h=1.0, mu=0.6)))
+    r = subprocess.run([sys.executable, "-m", "limit", "check", str(p), "--ag", "0.25", "--F0", "2.4", "--Tc-star",
+                        "0.3", "--soil", "C", "--sld-ag", "0.10", "--sld-F0", "2.45", "--sld-Tc-star", "0.25"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "Damage check (SLD, linear)" in r.stdout and "against 1.4715 m/s^2" in r.stdout
+    bad = subprocess.run([sys.executable, "-m", "limit", "check", str(p), "--sld-ag", "0.1"], capture_output=True,
+                         text=True)
+    assert bad.returncode == 2 and "--sld-ag" in bad.stderr
+
+
+def test_the_damage_check_above_ground_uses_the_floor_demand():
+    """C8A.4.8: a0* >= Se(T1) psi(Z) gamma at SLD (no q), at least the ground's ag S. Z = 3 m of
+    H = 9 m, N = 3, T1 = 0.3 s (on the plateau, TB = 0.15 <= T1 < TC = 0.5), S = 1, F0 = 2.5:
+    Se = 0.08 x 9.81 x 2.5 = 1.962, psi = 1/3, gamma = 9/7: 0.840857 m/s^2 > ag S = 0.7848."""
+    from limit.model.seismic_demand import check
+
+    d = from_mapping({"ag_g": 0.2, "Z": 3.0, "H": 9.0, "N": 3, "T1": 0.3, "SLD": {"ag_g": 0.08}})
+    c = check(d, a0_star=1.0)
+    assert c["damage"]["demand"] == pytest.approx(0.08 * 9.81 * 2.5 / 3 * 9 / 7, rel=1e-12)
+    assert c["damage"]["pass"] is True and c["linear"]["demand"] == pytest.approx(0.2 * 9.81 * 2.5 / 3 * 9 / 7 / 2)
+    with pytest.raises(ValueError, match=r"demand\.SLD\.Tc_star: required"):
+        from_mapping({"ag_g": 0.25, "F0": 2.4, "Tc_star": 0.3, "soil": "C", "SLD": {"ag_g": 0.1, "F0": 2.4}})

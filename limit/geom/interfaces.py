@@ -52,6 +52,22 @@ class Interfaces:
     polygons: list         # m arrays (k, d), world coordinates
     local: list            # m arrays (k, 2) in 3D / (2, 1) in 2D, frame coordinates
     mu: np.ndarray         # (m,) friction coefficient
+    #: (m,) cohesion c (Pa) and tensile strength ft (Pa) of the joint, zero for a dry joint
+    #: (the scene's ``joints`` groups, :mod:`limit.model.joint_groups`)
+    cohesion: np.ndarray | None = None
+    tensile: np.ndarray | None = None
+
+    def __post_init__(self):
+        m = len(self.a)
+        if self.cohesion is None:
+            self.cohesion = np.zeros(m)
+        if self.tensile is None:
+            self.tensile = np.zeros(m)
+
+    @property
+    def bonded(self) -> bool:
+        """True when any joint has cohesion or tensile strength."""
+        return bool(np.any(self.cohesion > 0) or np.any(self.tensile > 0))
 
     def __len__(self) -> int:
         return len(self.a)
@@ -111,9 +127,12 @@ def find_interfaces(scene) -> Interfaces:
             key = (min(i, j), max(i, j))
             if key in scene.friction_pairs:
                 mu[k] = scene.friction_pairs[key]
+    coh, ten = np.zeros(len(sel)), np.zeros(len(sel))
     for g in scene.joint_groups:  # the scene's "joints" (limit.model.joint_groups), in order, over the pairs
-        if g.mu is not None:
-            mu[g.selects(a[sel], b[sel])] = g.mu
+        hit = g.selects(a[sel], b[sel])
+        for arr, v in ((mu, g.mu), (coh, g.cohesion), (ten, g.tensile_strength)):
+            if v is not None:
+                arr[hit] = v
     return Interfaces(
         dim=d, a=a[sel], b=b[sel],
         normal=fields["normal"][sel], t1=fields["t1"][sel],
@@ -121,7 +140,7 @@ def find_interfaces(scene) -> Interfaces:
         centroid=fields["centroid"][sel], area=fields["area"][sel],
         l1=fields["l1"][sel], l2=fields["l2"][sel], is_rect=fields["is_rect"][sel],
         polygons=[fields["polygons"][k] for k in sel], local=[fields["local"][k] for k in sel],
-        mu=mu,
+        mu=mu, cohesion=coh, tensile=ten,
     )
 
 

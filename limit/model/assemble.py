@@ -7,7 +7,7 @@ Notation (all unscaled, SI units):
 * ``x`` (n_x,) interface actions of the chosen model (:mod:`limit.model.yield_domain`),
   ``r = H x`` the interface generalised stresses.
 * Equilibrium: ``E x + f0 + alpha fL = 0`` with ``E = B.T H`` (= ``A.T``).
-* Yield: ``Y x <= 0``. Flow: associative ``A u = -Y.T lam``, non-associative
+* Yield: ``Y x <= k`` (k = 0 for dry joints; cohesion and tension, :mod:`limit.model.yield_domain`). Flow: associative ``A u = -Y.T lam``, non-associative
   ``A u = G lam``, with ``A = H.T B``.
 
 Scaling (what the solvers see): variables ``x = Dx * xh`` with each interface's
@@ -85,6 +85,18 @@ class Assembled:
     timings: dict = field(default_factory=dict)
     #: (n_free * ndof,) bool: the dofs that are unknowns (False where a block has them ``blocked``)
     keep: np.ndarray | None = None
+    #: (n_faces,) scaled right-hand side of the yield rows, ``Yh xh <= kh`` (kh = k / Sy; zero
+    #: for dry joints)
+    kh: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.kh is None:
+            self.kh = np.zeros(self.Yh.shape[0])
+
+    @property
+    def bonded(self) -> bool:
+        """True when a joint has cohesion or tensile strength (``kh`` not zero)."""
+        return bool(np.any(self.kh))
 
     @property
     def n_dof(self) -> int:
@@ -167,7 +179,7 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     Yh = (sp.diags(1.0 / Sy) @ Y1).tocsr()
     t2 = time.perf_counter()
     return Assembled(scene, I, model, options, B, A, f0, fL, Lc, Wc, Dx, Df, Sy, Eh, Yh,
-                     f0 / Df, fL / Df, {"interfaces_s": t1 - t0, "assembly_s": t2 - t1}, keep)
+                     f0 / Df, fL / Df, {"interfaces_s": t1 - t0, "assembly_s": t2 - t1}, keep, model.k / Sy)
 
 
 def blocked_mask(scene) -> np.ndarray:

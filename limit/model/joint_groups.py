@@ -5,13 +5,15 @@ tags may be the same), and setting their properties.
 
 Precedence: the scene's ``friction`` for every joint, then the ``interfaces.friction`` pairs,
 then the ``joints`` entries in the order of the file, a later entry winning over an earlier
-one. Of the properties, ``mu`` is modelled; ``cohesion``, ``tensile_strength`` and ``fc`` are
-accepted only as 0 (or absent), since the yield domain has no cohesion, tension or crushing: a
-non-zero value is rejected, naming the key, rather than ignored. An entry that selects no joint
-is rejected too (:func:`check_selected`), naming it.
+one. ``mu``, ``cohesion`` (Pa) and ``tensile_strength`` (Pa) are modelled (the yield domain of
+:mod:`limit.model.yield_domain`); ``fc`` (crushing) is accepted only as 0 (or absent): the blocks
+and joints have no finite compressive strength, so a non-zero value is rejected, naming the key,
+rather than ignored. An entry that selects no joint is rejected too (:func:`check_selected`),
+naming it.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,19 +21,24 @@ import numpy as np
 from limit.errors import SceneError
 
 #: properties a joint group may set that the yield domain does not model (only 0 is accepted)
-UNMODELLED = ("cohesion", "tensile_strength", "fc")
+UNMODELLED = ("fc",)
+#: the modelled stresses of a joint group (Pa, finite and >= 0)
+STRESSES = ("cohesion", "tensile_strength")
 
 
 @dataclass(frozen=True)
 class JointGroup:
     """One ``joints`` entry: ``where`` ("joints[k]"), the block indices of each side (a pair of
-    index sets), and ``mu`` (None: the entry leaves friction as it is)."""
+    index sets), ``mu``, ``cohesion`` and ``tensile_strength`` (Pa); None: the entry leaves that
+    property as it is."""
 
     where: str
     side_a: frozenset
     side_b: frozenset
     text: str
     mu: float | None
+    cohesion: float | None = None
+    tensile_strength: float | None = None
 
     def selects(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """(m,) bool: the joints between blocks ``a[k]`` and ``b[k]`` that this entry selects."""
@@ -54,8 +61,13 @@ def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
         where = f"joints[{k}]"
         for key in UNMODELLED:
             if e.get(key) not in (None, 0, 0.0):
-                raise SceneError(f"{where}.{key}: {key.replace('_', ' ')} is not modelled (the joints are dry: "
-                                 "no cohesion, no tension, no crushing); give 0 or leave it out")
+                raise SceneError(f"{where}.{key}: crushing is not modelled (the blocks and joints have no "
+                                 "finite compressive strength); give 0 or leave it out")
+        for key in STRESSES:
+            v = e.get(key)
+            if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool)
+                                      and math.isfinite(v) and v >= 0):
+                raise SceneError(f"{where}.{key}: must be a stress >= 0 in Pa, got {v!r}")
         sel = e.get("between") or {}
         if "blocks" in sel:
             pair = sel["blocks"]
@@ -75,7 +87,8 @@ def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
             text = f"blocks tagged '{pair[0]}' and '{pair[1]}'"
         else:
             raise SceneError(f"{where}.between: give \"blocks\": [id, id] or \"tags\": [tag, tag]")
-        out.append(JointGroup(where, sa, sb, text, None if e.get("mu") is None else float(e["mu"])))
+        opt = lambda key: None if e.get(key) is None else float(e[key])
+        out.append(JointGroup(where, sa, sb, text, opt("mu"), opt("cohesion"), opt("tensile_strength")))
     return tuple(out)
 
 

@@ -13,7 +13,7 @@ and the displacement spectrum SDe(T) = Se(T) (T / 2 pi)^2. eta(xi) = sqrt(10 / (
 >= 0.55 (NTC 2018 eq. 3.2.4, xi in percent).
 
 Checks of a mechanism with spectral activation acceleration a0* and ultimate spectral
-displacement du* (secant period Ts):
+displacement du* (secant period Ts), at the life-safety limit state (SLV):
 * linear, mechanism at ground level:  a0* >= ag S / q;
 * linear, mechanism whose base is at height Z of a building of height H with N storeys
   and first period T1:  a0* >= max(ag S / q, Se(T1) psi(Z) gamma / q), psi = Z / H,
@@ -42,6 +42,12 @@ displacement du* (secant period Ts):
   2009's Ts: the 2019 Circolare evaluates SDe at T_SLV there too (not applied here).
 q = 2 is the code's behaviour factor for these mechanisms. Ratios capacity / demand >= 1
 pass.
+
+With the damage limit state's hazard (the demand's ``SLD``: its ag_g, F0, Tc*), the linear
+damage check of Circolare 617/2009 C8A.4.2.3 goes beside them, on the SLD's elastic spectrum
+with no behaviour factor:
+* at ground level:  a0* >= ag S                               (C8A.4.7)
+* above ground:     a0* >= max(ag S, Se(T1) psi(Z) gamma)      (C8A.4.8, with the ground's as for SLV)
 """
 from __future__ import annotations
 
@@ -91,6 +97,8 @@ class Demand:
     xi1: float = 0.05
     xi_mech: float = 0.08
     site: dict | None = field(default=None, compare=False)
+    #: the damage limit state's demand (same site and position, its own hazard), or None
+    sld: "Demand | None" = field(default=None, compare=False)
 
     def __post_init__(self):
         for k in ("ag_g", "S", "F0", "TB", "TC", "TD", "q", "eta", "xi1", "xi_mech"):
@@ -177,8 +185,19 @@ def from_mapping(d: dict, where: str = "demand") -> Demand:
     ``--strict``) are ignored. Raises ValueError naming the key (``where``.key)."""
     from limit.model.site_spectrum import site_parameters
 
-    names = {f.name for f in fields(Demand)} - {"site"}
+    names = {f.name for f in fields(Demand)} - {"site", "sld"}
     kw = {k: v for k, v in d.items() if k in names}
+    sld = None
+    if d.get("SLD") is not None:
+        own = d["SLD"]
+        if not isinstance(own, dict):
+            raise ValueError(f"{where}.SLD: an object with the damage limit state's ag_g (and F0, Tc_star)")
+        # the mechanism's position is the demand's; so is the site (soil, topography), whose spectrum
+        # the SLD's own ag_g, F0 and Tc_star then give, or else the demand's explicit S and corners
+        keys = ("Z", "H", "N", "T1", "eta", "xi1")
+        keys += ("soil", "topography", "topography_ratio") if any(k in d for k in SITE_KEYS) else DERIVED_KEYS + ("F0",)
+        shared = {k: d[k] for k in keys if k in d}
+        sld = from_mapping({**shared, **{k: v for k, v in own.items() if k in names | {"Tc_star"}}}, f"{where}.SLD")
     if "ag_g" not in kw:
         raise ValueError(f"{where}.ag_g: required (the peak ground acceleration on rock, in g)")
     if any(k in d for k in SITE_KEYS):
@@ -194,7 +213,26 @@ def from_mapping(d: dict, where: str = "demand") -> Demand:
                       "topography": d.get("topography", "T1"),
                       "topography_ratio": float(d.get("topography_ratio", 1.0)), "SS": par["SS"], "CC": par["CC"],
                       "ST": par["ST"], "derived": {k: par[k] for k in DERIVED_KEYS}, "overridden": given}
-    return Demand(**kw)
+    return Demand(**kw, sld=sld)
+
+
+def as_dict(demand: Demand) -> dict:
+    """The demand's fields as a plain dict (the result file's ``verdict.demand``; its SLD's under
+    ``SLD``)."""
+    out = {f.name: getattr(demand, f.name) for f in fields(Demand) if f.name != "sld"}
+    if demand.sld is not None:
+        out["SLD"] = as_dict(demand.sld)
+    return out
+
+
+def linear_demand(d: Demand, q: float) -> float:
+    """The linear check's demand (m/s^2): ag S / q at ground level; above ground at least
+    Se(T1) psi(Z) gamma / q (module docstring)."""
+    need = d.ag_g * G * d.S / q
+    if d.Z > 0:
+        psi, gamma = d.Z / d.H, 3.0 * d.N / (2.0 * d.N + 1.0)
+        need = max(need, d.Se(d.T1) * psi * gamma / q)
+    return need
 
 
 def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: float | None = None,
@@ -202,13 +240,15 @@ def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: floa
     """The linear (and, with du* and Ts, the nonlinear) check: {"linear": {"demand" m/s^2,
     "capacity", "ratio", "pass"}, "nonlinear": {"demand" m, "capacity" m, "ratio", "pass",
     "period" s, "rule"} or None (without a capacity curve, or above ground without a*(du*)
-    ``au_star`` > 0, m/s^2), "nonlinear_reason" (why None, else "")}."""
+    ``au_star`` > 0, m/s^2), "nonlinear_reason" (why None, else ""), "damage": the linear SLD
+    check {"demand" m/s^2, "capacity", "ratio", "pass"} with the demand's ``sld``, else None}."""
     d = demand
-    need = d.ag_g * G * d.S / d.q
-    if d.Z > 0:
-        psi, gamma = d.Z / d.H, 3.0 * d.N / (2.0 * d.N + 1.0)
-        need = max(need, d.Se(d.T1) * psi * gamma / d.q)
+    need = linear_demand(d, d.q)
     lin = {"demand": need, "capacity": a0_star, "ratio": a0_star / need, "pass": a0_star >= need}
+    damage = None
+    if d.sld is not None:
+        nd = linear_demand(d.sld, 1.0)
+        damage = {"demand": nd, "capacity": a0_star, "ratio": a0_star / nd, "pass": a0_star >= nd}
     nonlin, why = None, ""
     if du_star is None or Ts is None:
         why = "no capacity curve"
@@ -223,4 +263,4 @@ def check(demand: Demand, a0_star: float, du_star: float | None = None, Ts: floa
         dd = d.SDe(Ts)
         nonlin = {"demand": dd, "capacity": du_star, "ratio": du_star / dd, "pass": du_star >= dd, "period": Ts,
                   "rule": "SDe(Ts)", "Ts": Ts}
-    return {"linear": lin, "nonlinear": nonlin, "nonlinear_reason": why}
+    return {"linear": lin, "nonlinear": nonlin, "nonlinear_reason": why, "damage": damage}

@@ -1,4 +1,22 @@
-"""Interface yield domains: the constraints ``Y x <= 0`` on the interface actions x.
+"""Interface yield domains: the constraints ``Y x <= k`` on the interface actions x.
+
+``k`` (n_faces,) is zero for dry joints. A joint with cohesion c and tensile strength ft (Pa, the
+scene's ``joints`` groups) over its area A (m^2; 2D: length x thickness) has, per face:
+
+* rocking: ``k = ft A``. The domain is exact for a stress field of uniform tension ft plus any
+  compression (the blocks do not crush): (N + ft A, M) then lies in the no-tension domain, so
+  every no-tension face ``-N + ... <= 0`` becomes ``-N + ... <= ft A``; N >= -ft A follows.
+  A 2D block of width b on a joint with ft overturns at M = (b / 2)(N + ft A).
+* sliding: ``k = c_fit c A`` (Mohr-Coulomb, |V| <= mu N + c A, with the polygon's fit factor).
+* twisting: ``k = beta l c A`` (the paper's |T| <= beta l mu N with mu N + c A in place of mu N).
+* the vertex model: each of an interface's n corners takes A / n of its area (sliding
+  ``d . f - c_fit mu fn <= c_fit c A / n``; normal ``-fn <= min(ft, c / mu) A / n``: a corner's
+  tension cannot pass its Coulomb cone's apex, so without cohesion its corners carry none, where
+  the paper's model lets a joint in compression overall carry ft over part of its area).
+
+Cohesion and tension act on the whole area whatever the joint does elsewhere (a rocking joint
+keeps its cohesion): the linear Mohr-Coulomb domain with a tension cut-off, written on the
+resultants as the paper writes Coulomb's.
 
 Two interface models share one interface, :class:`InterfaceModel`:
 
@@ -60,6 +78,7 @@ class InterfaceModel:
     x_iface : (n_x,) interface of each action component.
     x_is_moment : (n_x,) True where the component is a moment (N m).
     normal_col : (n_x,) True where the component is a normal force.
+    k : (n_faces,) right-hand side of ``Y x <= k`` (N or N m), zero for dry joints.
     """
 
     name: str
@@ -71,6 +90,11 @@ class InterfaceModel:
     x_iface: np.ndarray
     x_is_moment: np.ndarray
     normal_col: np.ndarray
+    k: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.k is None:
+            self.k = np.zeros(self.Y.shape[0])
 
     @property
     def n_faces(self) -> int:
@@ -113,11 +137,12 @@ class _Rows:
     def __init__(self):
         self.r, self.c, self.v = [], [], []
         self.gr, self.gc, self.gv = [], [], []
-        self.kind, self.iface = [], []
+        self.kind, self.iface, self.k = [], [], []
         self.n = 0
 
-    def add(self, cols, vals, kind, iface, normal_cols):
-        """Faces given as (nf, k) column indices and values; normal_cols (nf,) for G."""
+    def add(self, cols, vals, kind, iface, normal_cols, k=0.0):
+        """Faces given as (nf, k) column indices and values; normal_cols (nf,) for G; ``k``
+        (scalar or (nf,)) their right-hand sides."""
         cols = np.asarray(cols)
         vals = np.asarray(vals, dtype=float)
         nf = cols.shape[0]
@@ -134,6 +159,7 @@ class _Rows:
         self.gv.append(g.ravel())
         self.kind.append(np.full(nf, kind, np.int8))
         self.iface.append(np.asarray(iface))
+        self.k.append(np.broadcast_to(np.asarray(k, dtype=float), (nf,)).copy())
         self.n += nf
 
     def matrices(self, n_x):
@@ -142,7 +168,7 @@ class _Rows:
         G = sp.csr_matrix((cat(self.gv), (cat(self.gr).astype(int), cat(self.gc).astype(int))), shape=(n_x, self.n))
         Y.eliminate_zeros()
         G.eliminate_zeros()
-        return Y, G, cat(self.kind).astype(np.int8), cat(self.iface).astype(int)
+        return Y, G, cat(self.kind).astype(np.int8), cat(self.iface).astype(int), cat(self.k).astype(float)
 
 
 def _edge_rows(loc):
@@ -161,15 +187,16 @@ def _paper(I, n_slide, fit) -> InterfaceModel:
     nq = dims.ndof(dim)
     k = np.arange(m)
     mu = I.mu
+    cA, tA = I.cohesion * I.area, I.tensile * I.area  # (m,) N
     rows = _Rows()
     if dim == 2:
         V, N, M = 0, 1, 2
         l = I.l1
         base = (k * nq)[:, None]
-        for sgn in (1.0, -1.0):  # rocking about the ends s = +l and s = -l: +-M <= l N
-            rows.add(base + [N, M], np.column_stack([-np.ones(m), sgn / l]), ROCK, k, k * nq + N)
-        for sgn in (1.0, -1.0):  # sliding: +-V <= mu N
-            rows.add(base + [V, N], np.column_stack([np.full(m, sgn), -mu]), SLIDE, k, k * nq + N)
+        for sgn in (1.0, -1.0):  # rocking about the ends s = +l and s = -l: +-M <= l (N + ft A)
+            rows.add(base + [N, M], np.column_stack([-np.ones(m), sgn / l]), ROCK, k, k * nq + N, tA)
+        for sgn in (1.0, -1.0):  # sliding: +-V <= mu N + c A
+            rows.add(base + [V, N], np.column_stack([np.full(m, sgn), -mu]), SLIDE, k, k * nq + N, cA)
     else:
         V1, V2, N, M1, M2, T = range(6)
         cols, vals, owner = [], [], []
@@ -179,22 +206,23 @@ def _paper(I, n_slide, fit) -> InterfaceModel:
             cols.append(kk * nq + np.tile([N, M1, M2], (ne, 1)))
             vals.append(np.column_stack([-np.ones(ne), a[:, 1] / b, -a[:, 0] / b]))
             owner.append(np.full(ne, kk))
-        rows.add(np.vstack(cols), np.vstack(vals), ROCK, np.concatenate(owner), np.concatenate(owner) * nq + N)
+        own = np.concatenate(owner)
+        rows.add(np.vstack(cols), np.vstack(vals), ROCK, own, own * nq + N, tA[own])
         base = (k * nq)[:, None]
         dirs, c = _slide_dirs(n_slide, fit)
         for d in dirs:
             rows.add(base + [V1, V2, N], np.column_stack([np.full(m, d[0]), np.full(m, d[1]), -c * mu]),
-                     SLIDE, k, k * nq + N)
-        lt = BETA * (I.l1 + I.l2) * mu
+                     SLIDE, k, k * nq + N, c * cA)
+        lt = BETA * (I.l1 + I.l2)
         for sgn in (1.0, -1.0):
-            rows.add(base + [N, T], np.column_stack([-lt, np.full(m, sgn)]), TWIST, k, k * nq + N)
+            rows.add(base + [N, T], np.column_stack([-lt * mu, np.full(m, sgn)]), TWIST, k, k * nq + N, lt * cA)
     n_x = m * nq
-    Y, G, kind, iface = rows.matrices(n_x)
+    Y, G, kind, iface, kr = rows.matrices(n_x)
     comp = np.tile(np.arange(nq), m)
     is_moment = comp >= dims.first_moment_index(dim)
     normal = comp == dims.normal_index(dim)
     return InterfaceModel("paper", Y, G, sp.identity(n_x, format="csr"), kind, iface,
-                          np.repeat(k, nq), is_moment, normal)
+                          np.repeat(k, nq), is_moment, normal, kr)
 
 
 def _vertex(I, n_slide, fit) -> InterfaceModel:
@@ -206,15 +234,20 @@ def _vertex(I, n_slide, fit) -> InterfaceModel:
     nvert = int(vptr[-1])
     owner = np.repeat(np.arange(m), nv)
     loc = np.vstack(I.local)  # (nvert, 1) in 2D, (nvert, 2) in 3D
+    share = (I.area / nv)[owner]  # (nvert,) m^2: each corner's share of its interface's area
+    mu_v = I.mu[owner]
+    with np.errstate(divide="ignore", invalid="ignore"):  # a corner's tension stops at its cone's apex, c / mu
+        apex = np.where(mu_v > 0, I.cohesion[owner] / mu_v, np.inf)
+    cA, tA = I.cohesion[owner] * share, np.minimum(I.tensile[owner], apex) * share
     rows = _Rows()
     if dim == 2:
         nc = 2  # [ft, fn]
         x0 = np.arange(nvert) * nc
         ft, fn = x0, x0 + 1
-        rows.add(fn[:, None], -np.ones((nvert, 1)), NORMAL, owner, fn)
+        rows.add(fn[:, None], -np.ones((nvert, 1)), NORMAL, owner, fn, tA)
         for sgn in (1.0, -1.0):
             rows.add(np.column_stack([ft, fn]), np.column_stack([np.full(nvert, sgn), -I.mu[owner]]),
-                     SLIDE, owner, fn)
+                     SLIDE, owner, fn, cA)
         s = loc[:, 0]
         hr = np.concatenate([owner * nq + 0, owner * nq + 1, owner * nq + 2])
         hc = np.concatenate([ft, fn, fn])
@@ -224,12 +257,12 @@ def _vertex(I, n_slide, fit) -> InterfaceModel:
         nc = 3  # [f1, f2, fn]
         x0 = np.arange(nvert) * nc
         f1, f2, fn = x0, x0 + 1, x0 + 2
-        rows.add(fn[:, None], -np.ones((nvert, 1)), NORMAL, owner, fn)
+        rows.add(fn[:, None], -np.ones((nvert, 1)), NORMAL, owner, fn, tA)
         dirs, c = _slide_dirs(n_slide, fit)
         for d in dirs:
             rows.add(np.column_stack([f1, f2, fn]),
                      np.column_stack([np.full(nvert, d[0]), np.full(nvert, d[1]), -c * I.mu[owner]]),
-                     SLIDE, owner, fn)
+                     SLIDE, owner, fn, c * cA)
         x1, x2 = loc[:, 0], loc[:, 1]
         b = owner * nq
         # r = [V1, V2, N, M1, M2, T] = [sum f1, sum f2, sum fn, sum x2 fn, -sum x1 fn, sum (x1 f2 - x2 f1)]
@@ -238,8 +271,8 @@ def _vertex(I, n_slide, fit) -> InterfaceModel:
         hv = np.concatenate([np.ones(nvert), np.ones(nvert), np.ones(nvert), x2, -x1, x1, -x2])
         is_moment = np.zeros(nvert * nc, bool)
     n_x = nvert * nc
-    Y, G, kind, iface = rows.matrices(n_x)
+    Y, G, kind, iface, kr = rows.matrices(n_x)
     H = sp.csr_matrix((hv, (hr, hc)), shape=(m * nq, n_x))
     comp = np.tile(np.arange(nc), nvert)
     normal = comp == nc - 1
-    return InterfaceModel("vertex", Y, G, H, kind, iface, np.repeat(owner, nc), is_moment, normal)
+    return InterfaceModel("vertex", Y, G, H, kind, iface, np.repeat(owner, nc), is_moment, normal, kr)

@@ -1,9 +1,9 @@
 """The mechanism of a dead-load collapse: what moves when the dead load cannot be carried alone.
 
 The dead load alone is carried unless some kinematically admissible mechanism u (associative
-flow: ``A u = -Y.T lam``, ``lam >= 0``, so it dissipates nothing) lets it do positive work,
-``f0 . u > 0`` (Farkas' lemma on the equilibrium ``E x + f0 = 0``, ``Y x <= 0``). This module
-finds one such mechanism with unit dead-load work, the least moving (least 1-norm of the
+flow: ``A u = -Y.T lam``, ``lam >= 0``) lets it do more work than the joints dissipate,
+``f0 . u - k . lam > 0`` (Farkas' lemma on the equilibrium ``E x + f0 = 0``, ``Y x <= k``; dry
+joints, k = 0, dissipate nothing). This module finds one such mechanism with unit net work, the least moving (least 1-norm of the
 scaled velocities), and names its blocks and joints for the "infeasible" answer.
 """
 from __future__ import annotations
@@ -21,10 +21,11 @@ def solve(P):
     if P.n_dof == 0 or not np.any(P.f0h):
         return None
     vh = cp.Variable(P.n_dof)
-    cons = [P.f0h @ vh == 1]
     if P.model.n_faces:
         lamh = cp.Variable(P.model.n_faces, nonneg=True)
-        cons.append(P.Eh.T @ vh + P.Yh.T @ lamh == 0)
+        cons = [P.f0h @ vh - P.kh @ lamh == 1, P.Eh.T @ vh + P.Yh.T @ lamh == 0]
+    else:
+        cons = [P.f0h @ vh == 1]
     prob = cp.Problem(cp.Minimize(cp.norm1(vh)), cons)
     try:
         prob.solve(solver=cp.CLARABEL)

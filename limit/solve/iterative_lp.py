@@ -1,8 +1,8 @@
 """The iterative LP of Gilbert, Casapulla & Ahmed (Computers & Structures 84, 2006, 873-887).
 
 An independent route to the frictional collapse factor: the Coulomb bound of
-every sliding (and twisting) face, ``|V| <= mu N``, is replaced by a fixed
-shear capacity ``|V| <= mu N*`` with N* the normal force of the previous
+every sliding (and twisting) face, ``|V| <= mu N (+ c A)``, is replaced by a fixed
+shear capacity ``|V| <= mu N* (+ c A)`` with N* the normal force of the previous
 iteration, which makes the LP associative *without* dilatancy (the face no
 longer involves N). After each LP, ``N* <- N* + omega (N - N*)`` (relaxation
 omega), until the normal forces settle. The rocking faces are unchanged.
@@ -92,8 +92,8 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
     history = []
     alpha = None
     for it in range(1, max_iter + 1):
-        b = np.zeros(Yc.shape[0])
-        b[fr] = -ncoef * np.maximum(nstar, 0.0)
+        b = P.kh.copy()  # a friction row's capacity kh - ncoef N* (ncoef < 0), never below 0
+        b[fr] = np.maximum(P.kh[fr] - ncoef * nstar, 0.0)
         res = lpsub.solve(c, Aeq, -P.f0h, Aub, b, lo, hi, backend)
         if not res.ok:
             return {"status": "failed", "alpha": None, "iterations": it, "history": history,
@@ -151,13 +151,13 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
     history, r, it, status, warm = [], None, 0, "not_converged", None
     structure = ipm.Structure(P.Eh, Yc, P.model.x_iface)  # the same matrices in every LP
     for it in range(1, max_iter + 1):
-        c = np.zeros(Yc.shape[0])
+        c = P.kh.copy()
         # a joint that opened (N* = 0) keeps a sliver of shear capacity: with none, its two
         # sliding faces pin the shear at zero and the interior point method has no interior
         rel = NSTAR_FLOOR
         while True:
             floor = rel * max(float(np.max(nstar, initial=0.0)), 1e-300)
-            c[fr] = -ncoef * np.maximum(nstar, floor)
+            c[fr] = P.kh[fr] - ncoef * np.maximum(nstar, floor)
             t_lp = lp_tol() if callable(lp_tol) else lp_tol
             kw = {} if t_lp is None else {"tol": t_lp}
             if prox:

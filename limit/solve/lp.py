@@ -2,11 +2,13 @@
 
 Static LP (lower-bound form, gives the contact actions)::
 
-    maximise alpha  s.t.  Eh xh + alpha fLh = -f0h,   Yh xh <= 0
+    maximise alpha  s.t.  Eh xh + alpha fLh = -f0h,   Yh xh <= kh
 
 Kinematic LP (upper-bound form, gives the mechanism)::
 
-    minimise -f0h . vh  s.t.  Eh.T vh + Yh.T lamh = 0,  fLh . vh = 1,  lamh >= 0
+    minimise -f0h . vh + kh . lamh  s.t.  Eh.T vh + Yh.T lamh = 0,  fLh . vh = 1,  lamh >= 0
+
+(kh = 0 for dry joints; kh . lamh is the dissipation of cohesion and tension.)
 
 Both are built in matrix form (one sparse matrix per constraint block) on the
 scaled problem of :mod:`limit.model.assemble`. They are each other's duals: the
@@ -113,7 +115,7 @@ def static_lp(P: Assembled, solver: str = DEFAULT_SOLVER, overrides: dict | None
     xh = cp.Variable(P.model.n_x)
     a = cp.Variable()
     eq = P.Eh @ xh + P.fLh * a == -P.f0h
-    ineq = P.Yh @ xh <= 0
+    ineq = P.Yh @ xh <= P.kh
     prob = cp.Problem(cp.Maximize(a), [eq, ineq])
     status, t = _solve(prob, solver, overrides)
     st, reason = _map_status(status)
@@ -149,7 +151,7 @@ def _static_ipm(P: Assembled, overrides: dict | None = None) -> LPSolution:
     """The static LP by :mod:`limit.solve.ipm` (same unscaling as the cvxpy path); the method's
     "almost" answer (:data:`IPM_ALMOST`) is reported "inaccurate", to be verified by the caller."""
     from limit.solve import ipm
-    r = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, **{"almost": IPM_ALMOST, **(overrides or {})})
+    r = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, c=P.kh, **{"almost": IPM_ALMOST, **(overrides or {})})
     t = {"compile_s": r["setup_s"], "solve_s": r["solve_s"] - r["setup_s"], "solver_total_s": r["solve_s"],
          "ipm_iterations": r["iterations"]}
     st = "inaccurate" if r["status"] == "almost" else r["status"]
@@ -169,7 +171,7 @@ def kinematic_lp(P: Assembled, solver: str = DEFAULT_SOLVER) -> LPSolution:
     lamh = cp.Variable(P.model.n_faces, nonneg=True)
     comp = P.Eh.T @ vh + P.Yh.T @ lamh == 0
     norm = P.fLh @ vh == 1
-    prob = cp.Problem(cp.Minimize(-P.f0h @ vh), [comp, norm])
+    prob = cp.Problem(cp.Minimize(-P.f0h @ vh + P.kh @ lamh), [comp, norm])
     status, t = _solve(prob, solver)
     st, reason = _map_status(status)
     # The kinematic LP is the dual: its "infeasible" means no mechanism (static unbounded) and
@@ -179,7 +181,7 @@ def kinematic_lp(P: Assembled, solver: str = DEFAULT_SOLVER) -> LPSolution:
     if st in ("optimal", "inaccurate") and vh.value is not None:
         sol.u = vh.value / P.Df
         sol.lam = lamh.value / P.Sy
-        sol.alpha = float(-P.f0 @ sol.u)
+        sol.alpha = float(-P.f0 @ sol.u + P.model.k @ sol.lam)
         if comp.dual_value is not None:
             sol.x = -P.Dx * np.asarray(comp.dual_value, dtype=float)
     return sol

@@ -15,7 +15,8 @@ the problem becomes a MILP whose optimum is the global minimum of alpha
   over all mechanisms whose dead-load work is at most alpha_ub (one small LP
   each); alpha_ub is the best value known (the NLP's, else the LP's);
 * the valid inequality ``alpha >= -f0 . u``: by the work equation
-  alpha = -f0 . u + (frictional dissipation >= 0) at every complementary point.
+  alpha = -f0 . u + (dissipation >= 0) at every complementary point (friction, and the
+  cohesion and tension of bonded joints, dissipate).
 
 Unbounded L_j (faces free to slide at zero normal force) are capped and the
 cap is enlarged until no multiplier reaches it. Practical up to some 30 blocks.
@@ -41,13 +42,12 @@ def _bounds(N, P, alpha_ub, deadline):
     S = np.full(nf, np.inf)
     L = np.full(nf, np.inf)
     A_s, b_s = N.Aeq[:ndof], N.beq[:ndof]
-    zero = np.zeros(nf)
-    for j in range(nf):
+    for j in range(nf):  # s_j = kh_j - Yx_j z at its largest: Yx_j z at its least
         if time.perf_counter() > deadline:
             raise TimeoutError
-        r = lpsub.solve(N.Yx[j].toarray().ravel(), A_s, b_s, N.Yx, zero, lo, hi)
+        r = lpsub.solve(N.Yx[j].toarray().ravel(), A_s, b_s, N.Yx, N.kh, lo, hi)
         if r.ok:
-            S[j] = max(-r.fun, 0.0)
+            S[j] = max(N.kh[j] - r.fun, 0.0)
     work = sp.hstack([sp.csr_matrix((1, 1 + P.model.n_x)), sp.csr_matrix(-P.f0h.reshape(1, -1)),
                       sp.csr_matrix((1, nf))]).tocsr()
     A_k, b_k = N.Aeq[ndof:], N.beq[ndof:]
@@ -101,7 +101,7 @@ def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: i
             cut,
         ]).tocsr()
         lb = np.concatenate([N.beq, np.full(3 * nf, -np.inf), [-np.inf]])
-        ub = np.concatenate([N.beq, np.zeros(nf), np.zeros(nf), Sc, [0.0]])
+        ub = np.concatenate([N.beq, N.kh, np.zeros(nf), Sc - N.kh, [0.0]])
         bl = np.concatenate([lo, np.zeros(nf)])
         bu = np.concatenate([hi, np.ones(nf)])
         left = deadline - time.perf_counter()

@@ -89,7 +89,7 @@ def solve_slsqp(N: NLPProblem, z0: np.ndarray, maxiter: int = 100, tol: float = 
     lo[N.ia] = 0.0
     cons = [
         {"type": "eq", "fun": lambda z: Aeq @ z - N.beq, "jac": lambda z: Aeq},
-        {"type": "ineq", "fun": lambda z: -(Yx @ z), "jac": lambda z: -Yx},
+        {"type": "ineq", "fun": lambda z: N.kh - Yx @ z, "jac": lambda z: -Yx},
         {"type": "eq", "fun": lambda z: np.array([N.comp(z)]), "jac": lambda z: N.comp_grad(z)[None, :]},
     ]
     bounds = list(zip(np.where(np.isfinite(lo), lo, None), np.where(np.isfinite(hi), hi, None)))
@@ -114,7 +114,7 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
     lo[N.ia] = 0.0
     e = np.zeros(N.n)
     e[N.ia] = 1.0
-    bub = np.zeros(N.Yx.shape[0])
+    bub = N.kh
     if lp is None and backend == "highs":
         lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, bub, lo, hi)
     rho = rho0
@@ -172,12 +172,12 @@ def polish(N: NLPProblem, z: np.ndarray, backend: str, rule: str = "ratio") -> t
     hi[N.sl.start + np.flatnonzero(~flows)] = 0.0  # lam_j = 0 where the face holds
     act = np.flatnonzero(flows)
     keep = np.flatnonzero(~flows)
-    # s_j = 0 where the face flows: -Yh x = 0 as equalities; s >= 0 elsewhere.
+    # s_j = 0 where the face flows: Yh x = kh as equalities; s >= 0 elsewhere.
     Aeq = sp.vstack([N.Aeq, N.Yx[act]]).tocsr()
-    beq = np.concatenate([N.beq, np.zeros(act.size)])
+    beq = np.concatenate([N.beq, N.kh[act]])
     c = np.zeros(N.n)
     c[N.ia] = 1.0
-    res = lpsub.solve(c, Aeq, beq, N.Yx[keep], np.zeros(keep.size), lo, hi, backend)
+    res = lpsub.solve(c, Aeq, beq, N.Yx[keep], N.kh[keep], lo, hi, backend)
     if not res.ok:
         return None, f"piece LP ({rule}): {res.status}"
     return res.z, f"piece LP ({rule}) with {act.size} flowing faces"

@@ -13,7 +13,7 @@ stacked into one vector ``z = [alpha, xh, vh, lamh]``:
 Constraints::
 
     equilibrium      Eh xh + alpha fLh = -f0h
-    yield            s(xh) = -Yh xh >= 0
+    yield            s(xh) = kh - Yh xh >= 0   (kh = 0 for dry joints)
     flow (no dilatancy)  Eh.T vh - Gh lamh = 0
     normalisation    fLh . vh = 1
     complementarity  c(z) = lamh . s(xh) = 0
@@ -38,7 +38,7 @@ class NLPProblem:
     Gh: sp.csr_matrix      # (n_x, n_f) scaled non-associative flow
     Aeq: sp.csr_matrix     # (n_dof + n_x + 1, n) equality constraints
     beq: np.ndarray
-    Yx: sp.csr_matrix      # (n_f, n) yield rows on z: s = -Yx z
+    Yx: sp.csr_matrix      # (n_f, n) yield rows on z: s = kh - Yx z, ``Yx z <= kh``
     n: int
     ia: int
     sx: slice
@@ -53,8 +53,13 @@ class NLPProblem:
         z[self.ia], z[self.sx], z[self.sv], z[self.sl] = alpha, xh, vh, lamh
         return z
 
+    @property
+    def kh(self) -> np.ndarray:
+        """(n_f,) the yield rows' right-hand side, ``Yx z <= kh``."""
+        return self.P.kh
+
     def slack(self, z):
-        return -(self.P.Yh @ z[self.sx])
+        return self.P.kh - self.P.Yh @ z[self.sx]
 
     def comp(self, z) -> float:
         return float(z[self.sl] @ self.slack(z))

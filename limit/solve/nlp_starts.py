@@ -35,14 +35,15 @@ FRICTION_FACTORS = (0.5, 0.25)
 
 
 def reduced_friction_lp(P, factor: float):
-    """The associative LP of P with every friction coefficient times ``factor`` (its solution,
-    or None when it has no optimum)."""
+    """The associative LP of P with every friction coefficient and cohesion times ``factor`` (its
+    solution, or None when it has no optimum)."""
     import dataclasses
 
     from limit.solve.checked_lp import solve_lp
     from limit.model.assemble import assemble
 
-    P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor))
+    P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor,
+                                                                       cohesion=P.I.cohesion * factor))
     sol2, _, _ = solve_lp(P2)
     return sol2 if sol2.status == "optimal" else None
 

@@ -155,7 +155,7 @@ def dead_load_start(P) -> np.ndarray | None:
     import scipy.sparse as sp
 
     nx = P.model.n_x
-    res = lpsub.solve(np.zeros(nx), sp.csr_matrix(P.Eh), -P.f0h, sp.csr_matrix(P.Yh), np.zeros(P.Yh.shape[0]),
+    res = lpsub.solve(np.zeros(nx), sp.csr_matrix(P.Eh), -P.f0h, sp.csr_matrix(P.Yh), P.kh,
                       np.full(nx, -np.inf), np.full(nx, np.inf), "highs")
     return res.z if res.ok else None
 
@@ -235,6 +235,8 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
         vh = kin.vh
         lamh = np.zeros(P.model.n_faces)
         lamh[act] = kin.lam
+    if backend == "ipm" and P.bonded:  # piece_statics eliminates homogeneous flowing faces only
+        backend = "clarabel"
     if backend == "ipm":  # the statics on the structured interior point method
         t = left()
         if t is not None and t <= 0:
@@ -249,13 +251,13 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     col = sp.csr_matrix(P.fLh.reshape(-1, 1))
     Yh = sp.csr_matrix(P.Yh)
     Aeq = sp.vstack([sp.hstack([col, P.Eh]), sp.hstack([sp.csr_matrix((act.size, 1)), Yh[act]])]).tocsr()
-    beq = np.concatenate([-P.f0h, np.zeros(act.size)])
+    beq = np.concatenate([-P.f0h, P.kh[act]])
     Aub = sp.hstack([sp.csr_matrix((hold.size, 1)), Yh[hold]]).tocsr()
     c = np.zeros(1 + nx)
     c[0] = 1.0
     lo = np.full(1 + nx, -np.inf)
     lo[0] = 0.0
-    st = lpsub.solve(c, Aeq, beq, Aub, np.zeros(hold.size), lo, np.full(1 + nx, np.inf), backend, time_limit=left(),
+    st = lpsub.solve(c, Aeq, beq, Aub, P.kh[hold], lo, np.full(1 + nx, np.inf), backend, time_limit=left(),
                      almost=True)
     if not st.ok:
         return Snap(None, f"piece LP statics ({rule}): {st.status}", infeasible=st.no_point)

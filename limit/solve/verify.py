@@ -8,12 +8,12 @@ work), so the tolerances below are dimensionless:
   its out-of-balance force over the size of its own load (the norm of its
   dead plus alpha times live force; moments over that load times the block's
   size), so that a light block beside a heavy one is checked on its own scale
-* yield        ``max(Yh xh)`` (rows of unit largest coefficient) <= TOL_YIELD
+* yield        ``max(Yh xh - kh)`` (rows of unit largest coefficient) <= TOL_YIELD
 * compatibility ``|A u + Y.T lam|_inf`` (associative) or ``|A u - G lam|``
   (non-associative), relative to the largest term       <= TOL_KIN
 * multipliers  ``min(lam)``                              >= -TOL_KIN
 * normalisation ``|fL . u - 1|``                         <= TOL_KIN
-* duality gap  ``|alpha - (-f0 . u - dissipation)| / max(1, |alpha|)`` <= TOL_GAP
+* duality gap  ``|alpha - (-f0 . u + k . lam)| / max(1, |alpha|)`` <= TOL_GAP
   (associative); for a frictional point instead the complementarity
   ``sum |lam s| / max(1, |alpha|)`` <= TOL_COMP and alpha not above the LP's
   (relative to max(1, alpha_LP)) by more than TOL_GAP.
@@ -56,7 +56,7 @@ def static_residuals(P, alpha, x) -> dict:
     """Equilibrium and yield residuals of interface actions x at load factor alpha."""
     xh = x / P.Dx
     eq = P.Eh @ xh + P.f0h + alpha * P.fLh
-    y = P.Yh @ xh
+    y = P.Yh @ xh - P.kh
     return {"equilibrium": _inf(eq), "block_equilibrium": block_equilibrium(P, alpha, x),
             "yield": float(max(y.max(), 0.0)) if y.size else 0.0}
 
@@ -87,7 +87,7 @@ def check_lp(P, sol) -> tuple[bool, dict, str]:
         return False, {}, "no solution to check"
     r = static_residuals(P, sol.alpha, sol.x)
     r.update(kinematic_residuals(P, sol.u, sol.lam, "associative"))
-    alpha_kin = float(-P.f0 @ sol.u)
+    alpha_kin = float(-P.f0 @ sol.u + P.model.k @ sol.lam)
     r["alpha_kinematic"] = alpha_kin
     r["duality_gap"] = abs(sol.alpha - alpha_kin) / max(1.0, abs(sol.alpha))
     ok, reason = judge(r, duality_gap=TOL_GAP)

@@ -5,7 +5,7 @@ and the verdict against a demand (:mod:`limit.model.seismic_demand`)."""
 from __future__ import annotations
 
 from limit.verdict.kinematic_check import FC_DEFAULT
-from limit.model.seismic_demand import G, Demand, check
+from limit.model.seismic_demand import G, Demand, as_dict, check
 
 
 def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
@@ -45,7 +45,7 @@ def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = N
     sp = (curve or {}).get("spectral") or {}
     c = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts"), sp.get("au_star")) if demand is not None else None
     return {"scene": scene.name, "step": step, "alpha0": alpha0, "linear": lin, "curve": curve,
-            "curve_reason": why, "check": c, "demand": None if demand is None else vars(demand)}
+            "curve_reason": why, "check": c, "demand": None if demand is None else as_dict(demand)}
 
 
 def scene_verdict(scene, res: dict) -> dict:
@@ -90,6 +90,10 @@ def check_lines(c: dict | None) -> list[str]:
                    f"{nl['demand'] * 1e3:.1f} mm, ratio {nl['ratio']:.3f}: " + ("PASS" if nl["pass"] else "FAIL") + ".")
     else:
         out.append(f"Nonlinear check: not made ({c.get('nonlinear_reason') or 'no capacity curve'}).")
+    dm = c.get("damage")
+    if dm:
+        out.append(f"Damage check (SLD, linear): a0* = {dm['capacity']:.4f} against {dm['demand']:.4f} m/s^2, "
+                   f"ratio {dm['ratio']:.3f}: " + ("PASS" if dm["pass"] else "FAIL") + ".")
     return out
 
 
