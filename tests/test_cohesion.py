@@ -130,3 +130,17 @@ def test_the_dem_engines_skip_a_bonded_scene_with_the_reason():
     for out in (run_loaded(s, {}), run_loaded_lmgc90(s, {})):
         assert out["status"] == "skipped"
         assert "cohesion or tensile strength" in out["reason"]
+
+
+def test_the_independent_routes_carry_the_cohesion():
+    """The MILP's global minimum and the iterative LP (Gilbert, Casapulla & Ahmed) of the cohesive
+    stack above reach its closed form too: 0.6 + 3000 / 17658."""
+    d = B.stack(3, dim=2, b=1.0, h=0.3, mu=0.6)
+    d["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "cohesion": 3000.0},
+                   {"between": {"tags": ["course-1", "course-2"]}, "cohesion": 3000.0},
+                   {"between": {"blocks": ["base", "s0"]}, "cohesion": 3000.0}]
+    res = analyse(load_scene(d), method="nlp", nlp_options={"global_check": True, "iterative": True})
+    want = 0.6 + 3000.0 / (3 * RHO_G * 0.3)
+    assert res["nlp"]["global"]["status"] == "optimal"
+    assert res["nlp"]["global"]["alpha"] == pytest.approx(want, rel=1e-6)
+    assert res["nlp"]["iterative_lp"]["alpha"] == pytest.approx(want, rel=1e-6)
