@@ -104,18 +104,27 @@ class Board:
                 self.spent += time.monotonic() - t0
                 self.expected += cost
 
-    def pace(self) -> float:
-        """Seconds this machine takes per second of cost, from the finished stages (1 until stages
-        of at least MIN_PACE_COST seconds of cost have finished)."""
-        return self.spent / self.expected if self.expected >= MIN_PACE_COST else 1.0
+    def pace(self, begun: dict | None = None) -> float:
+        """Seconds this machine takes per second of cost: the finished stages' seconds over their
+        costs, pooled with the running stages that have overrun their cost (``begun``: stage key ->
+        seconds since its worker began it; such a stage has taken at least that long). 1 until
+        stages of at least MIN_PACE_COST seconds of cost count, and never below the finished
+        stages' own pace."""
+        spent, expected = self.spent, self.expected
+        for key, since in (begun or {}).items():
+            cost = self.running.get(key, (None, 0.0))[1]
+            if cost > 0 and since > cost:
+                spent, expected = spent + since, expected + cost
+        own = self.spent / self.expected if self.expected >= MIN_PACE_COST else 1.0
+        return max(own, spent / expected) if expected >= MIN_PACE_COST else own
 
-    def eta(self) -> float:
+    def eta(self, begun: dict | None = None) -> float:
         """Seconds left: the queued stages' costs and what the running ones have left (at least a
         tenth of their cost: a stage past its estimate is not over), times :meth:`pace`, shared
-        by the slots."""
+        by the slots. ``begun``: as for :meth:`pace`."""
         now = time.monotonic()
         with self._lock:
-            k = self.pace()
+            k = self.pace(begun)
             left = k * self.queued + sum(max(k * cost - (now - t0), 0.1 * k * cost)
                                          for t0, cost in self.running.values())
         return left / self.slots
@@ -124,7 +133,7 @@ class Board:
         now = time.monotonic()
         with self._lock:
             running = sorted(self.running.items(), key=lambda kv: kv[1][0])
-        parts, waiting = [], 0
+        parts, waiting, begun = [], 0, {}
         for (stage, name), (t0, _) in running:
             rec = None
             if self.folder is not None:
@@ -134,9 +143,10 @@ class Board:
                     waiting += 1  # handed to the cluster, not yet begun on a worker
                     continue
             since = now - t0 if rec is None else time.time() - rec.get("started", time.time())
+            begun[(stage, name)] = since
             text = record_text(rec) if rec else ""
             parts.append(f"{name} {stage} {_clock(since)}" + (f" ({text})" if text else ""))
-        left = f"about {_clock(self.eta())} left" + (f", {waiting} stage(s) waiting for a worker" if waiting else "")
+        left = f"about {_clock(self.eta(begun))} left" + (f", {waiting} stage(s) waiting for a worker" if waiting else "")
         return f"running: {'; '.join(parts)} | {left}" if parts else left
 
     def _loop(self) -> None:

@@ -72,3 +72,23 @@ def test_the_pace_of_finished_stages_scales_the_time_left():
         assert board.eta() == pytest.approx(600.0, rel=1e-3)
     finally:
         board.close()
+
+
+def test_stages_past_their_cost_set_the_pace_before_any_finishes():
+    """Nothing has finished, and the two stages running (costs 100 s and 200 s) began 250 s and
+    500 s ago on their workers: this machine takes at least (250 + 500) / (100 + 200) = 2.5 s per
+    second of cost. 400 s of queued cost on two slots then leave 2.5 x 400 / 2 = 500 s plus a
+    tenth of each running stage's scaled cost, (25 + 50) / 2: 537.5 s, where the costs alone
+    would say 200 s plus (10 + 20) / 2."""
+    board = prog.Board(None, slots=2, show=lambda _: None, queued_cost=700.0)
+    try:
+        board.start("dem", "a", 100.0)
+        board.start("dem", "b", 200.0)
+        now = time.monotonic()
+        board.running[("dem", "a")] = (now - 250.0, 100.0)
+        board.running[("dem", "b")] = (now - 500.0, 200.0)
+        begun = {("dem", "a"): 250.0, ("dem", "b"): 500.0}
+        assert board.pace() == 1.0 and board.pace(begun) == pytest.approx(2.5)
+        assert board.eta(begun) == pytest.approx(537.5, rel=1e-3)
+    finally:
+        board.close()
