@@ -109,6 +109,18 @@ class Result:
             return self.nlp.alpha
         return self.lp.alpha if self.nlp is None else None
 
+    def raise_for_status(self) -> "Result":
+        """This result, or :class:`limit.errors.SolverError` when it has no trustworthy answer: a
+        step that failed (or an LP answer that stayed inaccurate), naming the step and its reason.
+        An infeasible or unbounded LP is an answer (the dead load alone collapses; no mechanism)
+        and raises nothing: its ``alpha`` is None."""
+        from limit.errors import SolverError
+
+        for name, part in (("LP", self.lp), ("step 2", self.nlp)):
+            if part is not None and part.status in ("failed", "inaccurate"):
+                raise SolverError(f"{self.scene}: {name} {part.status}" + (f": {part.reason}" if part.reason else ""))
+        return self
+
     def to_dict(self) -> dict:
         """The result file's content (JSON-ready: docs/formats.md, 'Result file')."""
         from limit.analysis import public

@@ -47,6 +47,18 @@ def test_the_answer_is_none_when_step_2_failed(monkeypatch):
     monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
     r = limit.analyse(B.side_by_side(dim=2, mu=0.5))
     assert r.nlp.status == "failed" and r.alpha is None and r.lp.alpha == pytest.approx(7 / 17, rel=1e-6)
+    with pytest.raises(limit.SolverError, match=r"step 2 failed: .*forced failure"):
+        r.raise_for_status()
+
+
+def test_raise_for_status_passes_an_answer_through():
+    """An answer, and an infeasible LP (the dead load alone collapses: an answer too), raise nothing."""
+    r = limit.analyse(B.single_block(2, 0.3, 1.0))
+    assert r.raise_for_status() is r and r.alpha == pytest.approx(0.3, rel=1e-6)
+    d = B.single_block(2, 0.3, 1.0)
+    d["gravity"] = [5.0, -9.81]  # tilted by atan(5 / 9.81) = 27 deg > atan(b / h) = 16.7 deg: it overturns
+    r = limit.analyse(d).raise_for_status()
+    assert r.lp.status == "infeasible" and r.alpha is None
 
 
 def test_errors_are_exported():
