@@ -197,10 +197,14 @@ def _friction_pairs(scene, interfaces) -> list:
     return [[int(i), int(j), float(mu)] for (i, j), mu in sorted(pairs.items())]
 
 
-def unmodelled(interfaces) -> str | None:
+def unmodelled(interfaces, scene=None) -> str | None:
     """Why neither engine can run a scene with these interfaces (None: both can): the contact
-    laws of both are dry Coulomb friction, so a joint with cohesion or tensile strength (the
-    scene's ``joints`` groups) is not modelled, and the run is skipped with this reason."""
+    laws of both are dry Coulomb friction and the jobs have no cables, so a joint with cohesion or
+    tensile strength (the scene's ``joints`` groups) and a tie rod (its ``ties``) are not
+    modelled, and the run is skipped with this reason."""
+    if scene is not None and getattr(scene, "ties", ()):
+        return (f"{len(scene.ties)} tie(s); the DEM jobs model blocks and dry joints, not tie rods, so the "
+                "dynamic check does not run")
     if getattr(interfaces, "bonded", False):
         n = int(((interfaces.cohesion > 0) | (interfaces.tensile > 0)).sum())
         return (f"{n} joint(s) have cohesion or tensile strength; the DEM contact laws are dry Coulomb "

@@ -29,7 +29,7 @@ def run_loaded_lmgc90(scene, knobs: dict, *, timeout_s=None, progress=None, keep
     if not len(scene.free):
         return {"status": "stable", "alpha": None, "note": "no free block: nothing can move", "time_s": 0.0, **base}
     I = find_interfaces(scene) if interfaces is None else interfaces
-    why = unmodelled(I)
+    why = unmodelled(I, scene)
     if why:
         return {"status": "skipped", "alpha": None, "reason": why, "time_s": 0.0, **base}
     f0, fL = dead_and_live(scene)

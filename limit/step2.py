@@ -10,7 +10,7 @@ import numpy as np
 
 from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
-from limit.results.result_parts import interfaces_part
+from limit.results.result_parts import interfaces_part, ties_part
 
 
 ALL_STRATEGIES = ("penalty", "random", "friction", "coarse")
@@ -318,9 +318,14 @@ def _point_part(P, N, z) -> dict:
     """The mechanism, interface states and counts of a verified frictional point z (scaled, of N)."""
     _, x, u, lam = N.unscale(z)
     cls = mechanism.classify(P, u)
-    return {"mechanism": mechanism.per_block(P, u), "normalisation": "unit work of the live load: fL . u = 1",
-            "interfaces": interfaces_part(P, P.model.H @ x, cls), "counts": {k: int(v.sum()) for k, v in cls.items()},
-            "_summary": ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]}
+    out = {"mechanism": mechanism.per_block(P, u), "normalisation": "unit work of the live load: fL . u = 1",
+           "interfaces": interfaces_part(P, P.model.H @ x, cls), "counts": {k: int(v.sum()) for k, v in cls.items()},
+           "_summary": ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]}
+    if P.scene.ties:
+        out["ties"] = ties_part(P, x, u)
+        out["_summary"].append("    ties: " + ", ".join(f"{t['id']} {t['state']} at {t['tension']:.4g} N"
+                                                       for t in out["ties"]))
+    return out
 
 
 def _adopt_global(P, lp_sol, part, g, entry) -> None:

@@ -170,6 +170,13 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     # equilibrium rows by their largest coefficient after that (see limit.model.scaling).
     half = I.l1 if scene.dim == 2 else 0.5 * np.sqrt(np.maximum(I.area, 1e-300))
     Dx = s_k[model.x_iface] * np.where(model.x_is_moment, half[model.x_iface], 1.0)
+    if scene.ties:  # one tension per tie (limit.model.ties), scaled by its capacity
+        from limit.model.ties import generalised_forces
+
+        Et = generalised_forces(scene, scene.ties)[keep]
+        model = yield_domain.with_ties(model, [t.capacity for t in scene.ties])
+        A = sp.vstack([A, sp.csr_matrix(Et.T)]).tocsr()
+        Dx = np.concatenate([Dx, [t.capacity for t in scene.ties]])
     E = A.T.tocsr()
     E1 = (E @ sp.diags(Dx)).tocsr()
     Df = np.maximum(abs(E1).max(axis=1).toarray().ravel(), 1e-300) if E1.shape[0] else np.ones(0)

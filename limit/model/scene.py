@@ -98,6 +98,7 @@ class Scene:
     fc: float | None = None            # its confidence factor (demand.fc), or None
     symmetry: str = "none"             # "mirror": declared mirror-symmetric (limit.verdict.symmetry checks it)
     joint_groups: tuple = ()           # the file's "joints", resolved: limit.model.joint_groups.JointGroup
+    ties: tuple = ()                   # the file's "ties", resolved: limit.model.ties.Tie
 
     @property
     def n_blocks(self) -> int:
@@ -395,6 +396,9 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
     from limit.model.joint_groups import parse_joint_groups
 
     joint_groups = parse_joint_groups(data.get("joints", []), ids, blocks)
+    from limit.model.ties import parse_ties
+
+    ties = parse_ties(data.get("ties", []), ids, blocks, dim, tolerance)
     loads = data.get("loads", {})
     dead = [_resolve_load(ld, f"loads.dead[{k}]", dim, ids, blocks) for k, ld in
             enumerate(loads.get("dead", [{"type": "self_weight"}]))]
@@ -407,7 +411,7 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
                   sliding_faces=data.get("interfaces", {}).get("sliding_faces"),
                   slide_fit=data.get("interfaces", {}).get("slide_fit"),
                   demand=_demand(data.get("demand")), fc=(data.get("demand") or {}).get("fc"),
-                  symmetry=data.get("symmetry", "none"), joint_groups=joint_groups)
+                  symmetry=data.get("symmetry", "none"), joint_groups=joint_groups, ties=ties)
     load_checks.check_loads(scene)
     if check_overlaps:
         from limit.geom.overlap import check_overlaps as _check

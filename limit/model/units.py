@@ -2,7 +2,7 @@
 downstream reads the scene (docs/formats.md, 'Scene file').
 
 Lengths are the blocks' ``box.center`` and ``box.size``, ``vertices`` and ``parts[*].vertices``,
-the ``point`` of a point force, ``tolerance`` and (2D) ``thickness``. Everything else keeps its
+the ``point`` of a point force and of a tie's ends, ``tolerance`` and (2D) ``thickness``. Everything else keeps its
 SI unit whatever ``units`` says: gravity (m/s^2), density (kg/m^3), forces (N), the ``demand``'s
 ``Z`` and ``H`` (m, building data of the code check).
 """
@@ -38,6 +38,10 @@ def to_metres(data: dict) -> dict:
         for ld in case:
             if "point" in ld:
                 ld["point"] = _scaled(ld["point"], k)
+    for tie in out.get("ties", []):
+        for side in ("from", "to"):
+            if isinstance(tie.get(side), dict) and isinstance(tie[side].get("point"), list):
+                tie[side]["point"] = _scaled(tie[side]["point"], k)
     return out
 
 

@@ -61,8 +61,8 @@ import scipy.sparse as sp
 
 from limit.model import dims
 
-ROCK, SLIDE, TWIST, NORMAL = 0, 1, 2, 3
-KIND_NAMES = {ROCK: "rock", SLIDE: "slide", TWIST: "twist", NORMAL: "normal"}
+ROCK, SLIDE, TWIST, NORMAL, TIE = 0, 1, 2, 3, 4
+KIND_NAMES = {ROCK: "rock", SLIDE: "slide", TWIST: "twist", NORMAL: "normal", TIE: "tie"}
 BETA = 2.0 / 3.0
 
 
@@ -276,3 +276,27 @@ def _vertex(I, n_slide, fit) -> InterfaceModel:
     comp = np.tile(np.arange(nc), nvert)
     normal = comp == nc - 1
     return InterfaceModel("vertex", Y, G, H, kind, iface, np.repeat(owner, nc), is_moment, normal, kr)
+
+
+def with_ties(model: InterfaceModel, capacities: np.ndarray) -> InterfaceModel:
+    """``model`` with one action per tie appended (its tension T, N; :mod:`limit.model.ties`) and
+    two yield rows each, ``-T <= 0`` and ``T <= capacity`` (kind TIE, associative flow). The
+    ties' actions and rows form groups of their own after the interfaces' (``x_iface`` and
+    ``iface`` m, m + 1, ...); ``H`` gives them no interface stress."""
+    cap = np.asarray(capacities, dtype=float)
+    nt = cap.size
+    if not nt:
+        return model
+    n_x, nf = model.n_x, model.n_faces
+    m = int(model.x_iface.max(initial=-1)) + 1
+    j = np.arange(nt)
+    Yt = sp.csr_matrix((np.tile([-1.0, 1.0], nt), (np.arange(2 * nt), np.repeat(j, 2))), shape=(2 * nt, nt))
+    Y = sp.bmat([[model.Y, None], [None, Yt]], format="csr")
+    G = sp.bmat([[model.G, None], [None, -Yt.T]], format="csr")
+    H = sp.hstack([model.H, sp.csr_matrix((model.H.shape[0], nt))]).tocsr()
+    return InterfaceModel(model.name, Y, G, H, np.concatenate([model.kind, np.full(2 * nt, TIE, np.int8)]),
+                          np.concatenate([model.iface, m + np.repeat(j, 2)]),
+                          np.concatenate([model.x_iface, m + j]), np.concatenate([model.x_is_moment, np.zeros(nt, bool)]),
+                          np.concatenate([model.normal_col, np.zeros(nt, bool)]),
+                          np.concatenate([model.k, np.column_stack([np.zeros(nt), cap]).ravel()]))
+

@@ -28,6 +28,31 @@ def lp_result(P: Assembled, sol, attempts, residuals, t_total: float) -> dict:
         cls = mechanism.classify(P, sol.u)
         out["interfaces"] = interfaces_part(P, P.model.H @ sol.x, cls)
         out["counts"] = {k: int(v.sum()) for k, v in cls.items()}
+        if P.scene.ties:
+            out["ties"] = ties_part(P, sol.x, sol.u)
+    return out
+
+
+#: a tie yields or goes slack when its elongation or shortening exceeds this x the mechanism's
+#: largest relative motion at an interface (as limit.solve.mechanism.ACTIVE)
+TIE_ACTIVE = mechanism.ACTIVE
+
+
+def ties_part(P, x, u) -> list:
+    """[{"id", "tension" (N), "capacity" (N), "state"}] per tie of the scene at the point (x, u):
+    "yields" (it stretches in the mechanism: T at its capacity), "slack" (its ends approach),
+    "holds" (its length does not change)."""
+    nt = len(P.scene.ties)
+    T = np.asarray(x, dtype=float)[-nt:]
+    stretch = -(P.A[-nt:] @ np.asarray(u, dtype=float))  # elongation rates, m per unit live-load work
+    mot = mechanism.interface_motions(P, u)
+    ref = max(float(np.max(np.abs(np.stack(list(mot.values()))))) if len(P.I) else 0.0,
+              float(np.abs(stretch).max(initial=0.0)), 1e-300)
+    out = []
+    for t, tj, ej in zip(P.scene.ties, T, stretch):
+        state = "yields" if ej > TIE_ACTIVE * ref else "slack" if ej < -TIE_ACTIVE * ref else "holds"
+        out.append({"id": t.id, "tension": float(tj), "capacity": t.capacity, "prestress": t.prestress,
+                    "elongation": float(ej), "state": state})
     return out
 
 

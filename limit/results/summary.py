@@ -23,6 +23,8 @@ def format_result(res: dict) -> str:
     elif lp["status"] == "optimal" and (lp.get("interfaces") or {}).get("pairs"):  # a result file's
         lines.append("  mechanism (associative):")
         lines += ["  " + s for s in _joint_lines(lp["interfaces"], res["dim"])]
+    if lp.get("ties"):
+        lines.append("    ties: " + ", ".join(f"{t['id']} {t['state']} at {t['tension']:.4g} N" for t in lp["ties"]))
     nlp = res.get("nlp")
     if nlp:
         lines.append(f"NLP ({nlp.get('solver', '-')}): {_alpha(nlp)}  [{nlp['status']}, {nlp.get('time_s', 0):.3g} s]"
