@@ -127,6 +127,17 @@ def _parser() -> argparse.ArgumentParser:
     from reports.scene_report import parser as report_parser
 
     report_parser(sub.add_parser("report", help="one scene's HTML report: limit analysis, DEM engines, mechanism"))
+    pd = sub.add_parser("design", help="tie design: the least total tie capacity at which the frictional alpha "
+                                       "reaches a target")
+    pd.add_argument("scene")
+    pd.add_argument("--target-alpha", type=float, required=True, metavar="A", help="the collapse multiplier to reach")
+    pd.add_argument("--candidates", default=None, metavar="FILE",
+                    help="a JSON list of candidate ties (the scene's tie format; a 'capacity' is an upper bound); "
+                         "default: the scene's own 'ties'")
+    pd.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
+                    help="the analysis that checks each trial (default auto: step 2 where it can change the answer)")
+    pd.add_argument("-o", "--output", default=None, metavar="OUT.json", help="write the designed scene here")
+    pd.add_argument("--json", default=None, metavar="OUT.json", help="write the design's record here")
     pb = sub.add_parser("build", help="write a scene of a generated structure (arch, wall, vault, dome)")
     from scenes.generators.command import add_arguments as build_arguments
     build_arguments(pb)
@@ -187,6 +198,56 @@ def cmd_check(args) -> int:
     print(format_assessment(a))
     if args.json:
         jsonio.write_json(args.json, a)
+    return 0
+
+
+def cmd_design(args) -> int:
+    import json
+
+    from limit import jsonio
+    from limit.analysis import public
+    from limit.model.scene import load_scene
+    from limit.tie_design import design
+
+    load_scene(args.scene)  # validated (exit 2 on bad input)
+    with open(args.scene) as fh:
+        data = json.load(fh)  # in its own units, as the candidates
+    keep = []
+    if args.candidates:
+        try:
+            with open(args.candidates) as fh:
+                cands = json.load(fh)
+        except (OSError, ValueError) as exc:
+            raise SceneError(f"--candidates: cannot read {args.candidates}: {exc}") from None
+        if not isinstance(cands, list) or not all(isinstance(c, dict) for c in cands):
+            raise SceneError('--candidates: a JSON list of tie objects ({"from": ..., "to": ...})')
+        keep = list(data.get("ties", []))
+    else:
+        cands = list(data.get("ties", []))
+    try:
+        out = design(data, cands, args.target_alpha, method=args.method, keep=keep,
+                     progress=lambda t: print(f"  {t}", file=sys.stderr, flush=True))
+    except ValueError as exc:
+        raise SceneError(str(exc)) from None
+    lp = out["lp_capacities"]
+    if lp is not None:
+        print("least total capacity by the LP: " + ", ".join(
+            f"{c.get('id', f'tie-{k}')} {v:.6g} N" for k, (c, v) in enumerate(zip(cands, lp))))
+    if out["status"] != "done":
+        print(f"design {out['status']}: {out['reason']}")
+        return 1
+    res = out["result"]
+    nlp = res.get("nlp") or {}
+    alpha = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else res["lp"].get("alpha")
+    print(f"designed ties (step 2's check: capacities x {out['factor']:.4g} of the LP's): " + (", ".join(
+        f"{t.get('id', '?')} {t['capacity']:.6g} N" for t in out["ties"]) or "none needed"))
+    print(f"alpha: LP {res['lp'].get('alpha')}, frictional {alpha} (target {args.target_alpha:g}); "
+          f"{out['time_s']:.1f} s")
+    if args.output:
+        jsonio.write_json(args.output, dict(data, ties=keep + out["ties"]))
+        print(f"wrote {args.output}")
+    if args.json:
+        jsonio.write_json(args.json, {**{k: v for k, v in out.items() if k != "result"}, "result": public(res)})
     return 0
 
 
@@ -338,7 +399,7 @@ def cmd_report(args) -> int:
     return run(args)
 
 
-COMMANDS = {"info": cmd_info, "solve": cmd_solve, "check": cmd_check, "sweep": cmd_sweep, "import": cmd_import,
+COMMANDS = {"info": cmd_info, "solve": cmd_solve, "check": cmd_check, "sweep": cmd_sweep, "design": cmd_design, "import": cmd_import,
             "build": cmd_build, "report": cmd_report}
 
 
