@@ -73,6 +73,9 @@ def _no_work(scene, ld: dict, keep) -> str:
     if not any(not scene.blocks[i].fixed for i in ld["_blocks"]):
         on = ", ".join(f"'{scene.blocks[i].id}'" for i in ld["_blocks"][:5])
         return f"({t}) acts on fixed blocks only ({on})"
+    if t == "pressure" and not np.any(loads.assemble(scene, [ld])):
+        return (f"(pressure) loads no face: no face of its free blocks has the outward normal {_vec(ld['face'])} "
+                "where the pressure is positive")
     if not np.any(loads.assemble(scene, [ld]).ravel()[keep]):
         return f"({t}) acts only along dofs its blocks have 'blocked'"
     return f"({t}) is cancelled by the others"

@@ -3,7 +3,7 @@
 Each free block has ``ndof`` generalised forces at its centroid, in the global
 axes: 2D ``[Fx, Fy, Mz]``, 3D ``[Fx, Fy, Fz, Mx, My, Mz]`` (N and N m, moments
 about the block centroid, counter-clockwise / right-handed positive). Loads on
-fixed blocks have no effect and are dropped.
+fixed blocks have no effect and are dropped. Pressure loads: :mod:`limit.model.pressure`.
 """
 from __future__ import annotations
 
@@ -48,6 +48,14 @@ def assemble(scene, loads) -> np.ndarray:
             p = np.asarray(ld.get("point", c), dtype=float)
             out[fi[i], :dim] += f
             out[fi[i], dim:] += _cross(dim, p - c, f)
+        elif t == "pressure":
+            from limit.model.pressure import resultant
+
+            up = -g / gnorm
+            for i in sel:
+                F, M = resultant(scene.blocks[i], ld, up, scene.thickness)
+                out[fi[i], :dim] += F
+                out[fi[i], dim:] += M
     return out
 
 

@@ -479,6 +479,14 @@ def _resolve_load(ld: dict, where: str, dim: int, ids: dict, blocks: list) -> di
         return out
     if t == "body_force":
         _check_len(ld["direction"], dim, f"{where}.direction")
+    if t == "pressure":
+        _check_len(ld["face"], dim, f"{where}.face")
+        if not np.linalg.norm(np.asarray(ld["face"], dtype=float)) > 0:
+            raise SceneError(f"{where}.face: the outward normal of the loaded faces must not be zero")
+        for key in ("value", "gradient", "level"):
+            v = ld.get(key, 0.0)
+            if not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v)):
+                raise SceneError(f"{where}.{key}: a finite number, got {v!r}")
     sel = ld.get("blocks", "all")
     if sel == "all":
         idx = [b.index for b in blocks]

@@ -2,9 +2,10 @@
 downstream reads the scene (docs/formats.md, 'Scene file').
 
 Lengths are the blocks' ``box.center`` and ``box.size``, ``vertices`` and ``parts[*].vertices``,
-the ``point`` of a point force and of a tie's ends, ``tolerance`` and (2D) ``thickness``. Everything else keeps its
-SI unit whatever ``units`` says: gravity (m/s^2), density (kg/m^3), forces (N), the ``demand``'s
-``Z`` and ``H`` (m, building data of the code check).
+the ``point`` of a point force and of a tie's ends, a pressure's ``level``, ``tolerance`` and (2D)
+``thickness``. Everything else keeps its SI unit whatever ``units`` says: gravity (m/s^2), density
+(kg/m^3), forces (N), pressures (Pa) and their gradients (Pa/m), the ``demand``'s ``Z`` and ``H``
+(m, building data of the code check).
 """
 from __future__ import annotations
 
@@ -38,6 +39,8 @@ def to_metres(data: dict) -> dict:
         for ld in case:
             if "point" in ld:
                 ld["point"] = _scaled(ld["point"], k)
+            if isinstance(ld.get("level"), (int, float)) and not isinstance(ld.get("level"), bool):
+                ld["level"] = ld["level"] * k
     for tie in out.get("ties", []):
         for side in ("from", "to"):
             if isinstance(tie.get(side), dict) and isinstance(tie[side].get("point"), list):
