@@ -56,6 +56,8 @@ class Interfaces:
     #: (the scene's ``joints`` groups, :mod:`limit.model.joint_groups`)
     cohesion: np.ndarray | None = None
     tensile: np.ndarray | None = None
+    #: (m,) compressive strength fc (Pa) of the joint, 0 for none (the blocks do not crush)
+    fc: np.ndarray | None = None
 
     def __post_init__(self):
         m = len(self.a)
@@ -63,6 +65,8 @@ class Interfaces:
             self.cohesion = np.zeros(m)
         if self.tensile is None:
             self.tensile = np.zeros(m)
+        if self.fc is None:
+            self.fc = np.zeros(m)
 
     @property
     def bonded(self) -> bool:
@@ -127,12 +131,19 @@ def find_interfaces(scene) -> Interfaces:
             key = (min(i, j), max(i, j))
             if key in scene.friction_pairs:
                 mu[k] = scene.friction_pairs[key]
-    coh, ten = np.zeros(len(sel)), np.zeros(len(sel))
+    coh, ten, fc = np.zeros(len(sel)), np.zeros(len(sel)), np.zeros(len(sel))
     for g in scene.joint_groups:  # the scene's "joints" (limit.model.joint_groups), in order, over the pairs
         hit = g.selects(a[sel], b[sel])
-        for arr, v in ((mu, g.mu), (coh, g.cohesion), (ten, g.tensile_strength)):
+        for arr, v in ((mu, g.mu), (coh, g.cohesion), (ten, g.tensile_strength), (fc, g.fc)):
             if v is not None:
                 arr[hit] = v
+    both = (fc > 0) & (ten > 0)
+    if both.any():
+        from limit.errors import SceneError
+
+        k = int(np.flatnonzero(both)[0])
+        raise SceneError(f"joints: the joint between '{blocks[a[sel][k]].id}' and '{blocks[b[sel][k]].id}' has both fc "
+                         "and tensile_strength; crushing is modelled without tension (give one of them)")
     return Interfaces(
         dim=d, a=a[sel], b=b[sel],
         normal=fields["normal"][sel], t1=fields["t1"][sel],
@@ -140,7 +151,7 @@ def find_interfaces(scene) -> Interfaces:
         centroid=fields["centroid"][sel], area=fields["area"][sel],
         l1=fields["l1"][sel], l2=fields["l2"][sel], is_rect=fields["is_rect"][sel],
         polygons=[fields["polygons"][k] for k in sel], local=[fields["local"][k] for k in sel],
-        mu=mu, cohesion=coh, tensile=ten,
+        mu=mu, cohesion=coh, tensile=ten, fc=fc,
     )
 
 

@@ -5,11 +5,9 @@ tags may be the same), and setting their properties.
 
 Precedence: the scene's ``friction`` for every joint, then the ``interfaces.friction`` pairs,
 then the ``joints`` entries in the order of the file, a later entry winning over an earlier
-one. ``mu``, ``cohesion`` (Pa) and ``tensile_strength`` (Pa) are modelled (the yield domain of
-:mod:`limit.model.yield_domain`); ``fc`` (crushing) is accepted only as 0 (or absent): the blocks
-and joints have no finite compressive strength, so a non-zero value is rejected, naming the key,
-rather than ignored. An entry that selects no joint is rejected too (:func:`check_selected`),
-naming it.
+one. ``mu``, ``cohesion``, ``tensile_strength`` and ``fc`` (Pa; fc 0: no crushing) are modelled
+(the yield domain of :mod:`limit.model.yield_domain`). An entry that selects no joint is rejected
+(:func:`check_selected`), naming it.
 """
 from __future__ import annotations
 
@@ -20,17 +18,15 @@ import numpy as np
 
 from limit.errors import SceneError
 
-#: properties a joint group may set that the yield domain does not model (only 0 is accepted)
-UNMODELLED = ("fc",)
 #: the modelled stresses of a joint group (Pa, finite and >= 0)
-STRESSES = ("cohesion", "tensile_strength")
+STRESSES = ("cohesion", "tensile_strength", "fc")
 
 
 @dataclass(frozen=True)
 class JointGroup:
     """One ``joints`` entry: ``where`` ("joints[k]"), the block indices of each side (a pair of
     index sets), ``mu``, ``cohesion`` and ``tensile_strength`` (Pa); None: the entry leaves that
-    property as it is."""
+    property as it is; ``fc`` 0: no crushing."""
 
     where: str
     side_a: frozenset
@@ -39,6 +35,7 @@ class JointGroup:
     mu: float | None
     cohesion: float | None = None
     tensile_strength: float | None = None
+    fc: float | None = None
 
     def selects(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """(m,) bool: the joints between blocks ``a[k]`` and ``b[k]`` that this entry selects."""
@@ -59,10 +56,6 @@ def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
             tags.setdefault(t, set()).add(b.index)
     for k, e in enumerate(entries):
         where = f"joints[{k}]"
-        for key in UNMODELLED:
-            if e.get(key) not in (None, 0, 0.0):
-                raise SceneError(f"{where}.{key}: crushing is not modelled (the blocks and joints have no "
-                                 "finite compressive strength); give 0 or leave it out")
         for key in STRESSES:
             v = e.get(key)
             if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool)
@@ -88,7 +81,7 @@ def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
         else:
             raise SceneError(f"{where}.between: give \"blocks\": [id, id] or \"tags\": [tag, tag]")
         opt = lambda key: None if e.get(key) is None else float(e[key])
-        out.append(JointGroup(where, sa, sb, text, opt("mu"), opt("cohesion"), opt("tensile_strength")))
+        out.append(JointGroup(where, sa, sb, text, opt("mu"), opt("cohesion"), opt("tensile_strength"), opt("fc")))
     return tuple(out)
 
 

@@ -9,6 +9,13 @@ scene's ``joints`` groups) over its area A (m^2; 2D: length x thickness) has, pe
   A 2D block of width b on a joint with ft overturns at M = (b / 2)(N + ft A).
 * sliding: ``k = c_fit c A`` (Mohr-Coulomb, |V| <= mu N + c A, with the polygon's fit factor).
 * twisting: ``k = beta l c A`` (the paper's |T| <= beta l mu N with mu N + c A in place of mu N).
+* crushing (``fc`` > 0, the paper's model): the compression is a stress block fc over a strip along
+  the edge it turns about (2D: the thickness; 3D: the edge's length L), so the resultant's
+  distance to that edge is at least N / (2 fc L) and the rocking face ``g <= b N`` becomes
+  ``g <= b N - N^2 / (2 fc L)``, up to N = 2 fc L b (= fc A for a rectangle): replaced by the
+  chords of :func:`crushing_chords` (RHS ``k`` > 0 but the first), never stronger than it and
+  within 1 % of it. Exact for rectangles; for other polygons the strip is cut by the polygon's
+  other edges, which this neglects. Not combined with tension.
 * the vertex model: each of an interface's n corners takes A / n of its area (sliding
   ``d . f - c_fit mu fn <= c_fit c A / n``; normal ``-fn <= min(ft, c / mu) A / n``: a corner's
   tension cannot pass its Coulomb cone's apex, so without cohesion its corners carry none, where
@@ -171,14 +178,35 @@ class _Rows:
         return Y, G, cat(self.kind).astype(np.int8), cat(self.iface).astype(int), cat(self.k).astype(float)
 
 
-def _edge_rows(loc):
-    """Outward unit normals a (k, 2) and distances b (k,) of a CCW polygon's edges."""
+def _edge_rows(loc, lengths: bool = False):
+    """Outward unit normals a (k, 2) and distances b (k,) of a CCW polygon's edges (and their
+    lengths (k,) with ``lengths``)."""
     e = np.roll(loc, -1, axis=0) - loc
     L = np.linalg.norm(e, axis=1)
     a = np.column_stack([e[:, 1], -e[:, 0]]) / L[:, None]
     b = np.einsum("ij,ij->i", a, loc)
     keep = L > 1e-12 * L.max()
-    return a[keep], b[keep]
+    return (a[keep], b[keep], L[keep]) if lengths else (a[keep], b[keep])
+
+
+#: chords of each crushing parabola: the inscribed polygon falls short of the exact domain by at
+#: most 1 / CRUSH_CHORDS^2 of its largest moment (1 % with 10; see :func:`crushing_chords`)
+CRUSH_CHORDS = 10
+
+
+def crushing_chords(b: float, fc_L: float, n: int = CRUSH_CHORDS) -> tuple[np.ndarray, np.ndarray]:
+    """(slopes s (n,), intercepts c (n,)) of the chords of f(N) = b N - N^2 / (2 fc L) on n equal
+    steps of N from 0 to N_max = 2 fc L b, where f is 0 again. f is the largest moment about the
+    contact's centroid, towards an edge at distance b (m) and of length L (m), that a normal force
+    N carries when the compression is a stress block fc over a strip of the edge's length and
+    depth N / (fc L) (``fc_L`` = fc L, N/m). ``g <= s_i N + c_i`` for every i is the polygon
+    inscribed in the parabola's hypograph (f is concave): never stronger than the exact domain,
+    weaker by at most (N_max / n)^2 / (8 fc L) = f_max / n^2 (f_max = b N_max / 4)."""
+    Nm = 2.0 * fc_L * b
+    N = Nm * np.arange(n + 1) / n
+    f = b * N - N * N / (2.0 * fc_L)
+    s = np.diff(f) / np.diff(N)
+    return s, f[:-1] - s * N[:-1]
 
 
 def _paper(I, n_slide, fit) -> InterfaceModel:
@@ -193,21 +221,38 @@ def _paper(I, n_slide, fit) -> InterfaceModel:
         V, N, M = 0, 1, 2
         l = I.l1
         base = (k * nq)[:, None]
+        dry = I.fc <= 0  # crushing joints get the chords of their parabola instead
         for sgn in (1.0, -1.0):  # rocking about the ends s = +l and s = -l: +-M <= l (N + ft A)
-            rows.add(base + [N, M], np.column_stack([-np.ones(m), sgn / l]), ROCK, k, k * nq + N, tA)
+            rows.add(base[dry] + [N, M], np.column_stack([-np.ones(dry.sum()), np.full(dry.sum(), sgn) / l[dry]]),
+                     ROCK, k[dry], k[dry] * nq + N, tA[dry])
+        for kk in np.flatnonzero(~dry):  # |M| <= l N - N^2 / (2 fc t), t the thickness
+            sl, cl = crushing_chords(l[kk], I.fc[kk] * I.area[kk] / (2.0 * l[kk]))
+            for sgn in (1.0, -1.0):
+                rows.add(kk * nq + np.tile([N, M], (sl.size, 1)), np.column_stack([-sl / l[kk], np.full(sl.size, sgn / l[kk])]),
+                         ROCK, np.full(sl.size, kk), np.full(sl.size, kk * nq + N), cl / l[kk])
         for sgn in (1.0, -1.0):  # sliding: +-V <= mu N + c A
             rows.add(base + [V, N], np.column_stack([np.full(m, sgn), -mu]), SLIDE, k, k * nq + N, cA)
     else:
         V1, V2, N, M1, M2, T = range(6)
-        cols, vals, owner = [], [], []
+        cols, vals, owner, rhs = [], [], [], []
         for kk in range(m):
-            a, b = _edge_rows(I.local[kk])
+            a, b, L = _edge_rows(I.local[kk], lengths=True)
             ne = len(b)
+            if I.fc[kk] > 0:  # a chord per step of each edge's parabola: a . x <= b - N / (2 fc L)
+                for e in range(ne):
+                    sl, cl = crushing_chords(b[e], I.fc[kk] * L[e])
+                    cols.append(kk * nq + np.tile([N, M1, M2], (sl.size, 1)))
+                    vals.append(np.column_stack([-sl / b[e], np.full(sl.size, a[e, 1] / b[e]),
+                                                 np.full(sl.size, -a[e, 0] / b[e])]))
+                    owner.append(np.full(sl.size, kk))
+                    rhs.append(cl / b[e])
+                continue
             cols.append(kk * nq + np.tile([N, M1, M2], (ne, 1)))
             vals.append(np.column_stack([-np.ones(ne), a[:, 1] / b, -a[:, 0] / b]))
             owner.append(np.full(ne, kk))
+            rhs.append(np.full(ne, tA[kk]))
         own = np.concatenate(owner)
-        rows.add(np.vstack(cols), np.vstack(vals), ROCK, own, own * nq + N, tA[own])
+        rows.add(np.vstack(cols), np.vstack(vals), ROCK, own, own * nq + N, np.concatenate(rhs))
         base = (k * nq)[:, None]
         dirs, c = _slide_dirs(n_slide, fit)
         for d in dirs:
@@ -226,6 +271,11 @@ def _paper(I, n_slide, fit) -> InterfaceModel:
 
 
 def _vertex(I, n_slide, fit) -> InterfaceModel:
+    if np.any(I.fc > 0):
+        from limit.errors import SceneError
+
+        raise SceneError("joints: crushing (fc) is modelled in the paper's interface model only (the default; "
+                         "not --model vertex)")
     m = len(I)
     dim = I.dim
     nq = dims.ndof(dim)
