@@ -180,11 +180,23 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         "interfaces": [[int(a), int(b), float(s)] for a, b, s in zip(interfaces.a, interfaces.b, interfaces.area)],
         "friction": float(scene.friction),
         "friction_pairs": _friction_pairs(scene, interfaces),
+        "ties": _ties(scene),
         "rho_g": rho_g(scene),
         "gravity_norm": float(np.linalg.norm(scene.gravity)),
         "params": dict(params),
         "result": result,
     }
+
+
+def _ties(scene) -> list:
+    """The scene's tie rods for YADE: ``[{"a", "b" (block indices), "pa", "pb" (m, 3D; a 2D scene's at
+    half its thickness), "capacity", "prestress" (N)}]``."""
+    def pt(p):
+        p = [float(x) for x in p]
+        return p + [0.5 * float(scene.thickness)] if scene.dim == 2 else p
+
+    return [{"id": t.id, "a": int(t.a), "b": int(t.b), "pa": pt(t.pa), "pb": pt(t.pb), "capacity": float(t.capacity),
+             "prestress": float(t.prestress)} for t in getattr(scene, "ties", ())]
 
 
 def _friction_pairs(scene, interfaces) -> list:
@@ -197,14 +209,14 @@ def _friction_pairs(scene, interfaces) -> list:
     return [[int(i), int(j), float(mu)] for (i, j), mu in sorted(pairs.items())]
 
 
-def unmodelled(interfaces, scene=None) -> str | None:
-    """Why neither engine can run a scene with these interfaces (None: both can): the contact
-    laws of both are dry Coulomb friction and the jobs have no cables, so a joint with cohesion or
-    tensile strength (the scene's ``joints`` groups) and a tie rod (its ``ties``) are not
-    modelled, and the run is skipped with this reason."""
-    if scene is not None and getattr(scene, "ties", ()):
-        return (f"{len(scene.ties)} tie(s); the DEM jobs model blocks and dry joints, not tie rods, so the "
-                "dynamic check does not run")
+def unmodelled(interfaces, scene=None, ties: bool = False) -> str | None:
+    """Why an engine cannot run a scene with these interfaces (None: it can): the contact laws are
+    dry Coulomb friction, so a joint with cohesion or tensile strength (the scene's ``joints``
+    groups) is not modelled; tie rods (its ``ties``) only where the engine has them (``ties``:
+    YADE's vertex model). The run is skipped with this reason."""
+    if scene is not None and getattr(scene, "ties", ()) and not ties:
+        return (f"{len(scene.ties)} tie(s); this engine models blocks and dry joints, not tie rods (YADE's vertex "
+                "model does), so the dynamic check does not run here")
     if getattr(interfaces, "bonded", False):
         n = int(((interfaces.cohesion > 0) | (interfaces.tensile > 0)).sum())
         return (f"{n} joint(s) have cohesion or tensile strength; the DEM contact laws are dry Coulomb "

@@ -80,6 +80,45 @@ class BlockModel:
             self.f0[i] = (Vector3(*f0[:3]), Vector3(*f0[3:]))
             self.fL[i] = (Vector3(*fL[:3]), Vector3(*fL[3:]))
         self.alpha = 0.0
+        self.ties = list(job.get("ties") or [])
+
+    # ------------------------------------------------------------------ ties
+    def tie_stiffness(self, tie, stiff):
+        """N/m of a tie at contact stiffness ``stiff`` (N/m^3): its capacity reached at an
+        elongation of eps L (eps = rho g / stiff, L the mean block size), as a contact's
+        settlement, so that it turns rigid with the contacts as eps falls."""
+        return float(tie["capacity"]) * stiff / (self.rho_g * self.length)
+
+    def anchor_ties(self):
+        """Each tie end in its body's frame (called once the bodies are built)."""
+        for t in self.ties:
+            for end, p in (("a", "pa"), ("b", "pb")):
+                s = O.bodies[self.bid[t[end]]].state
+                t["_local_" + end] = s.ori.conjugate() * (Vector3(*t[p]) - s.pos)
+            t["_L0"] = (Vector3(*t["pb"]) - Vector3(*t["pa"])).norm()
+
+    def apply_ties(self):
+        """Add each tie's force to its two bodies for this step: T = min(max(k (l - l0) +
+        prestress, 0), capacity) along the tie, pulling its ends together (elastic, then at its
+        capacity; slack in compression)."""
+        forces = O.forces
+        for t in self.ties:
+            sa, sb = O.bodies[self.bid[t["a"]]].state, O.bodies[self.bid[t["b"]]].state
+            pa, pb = sa.pos + sa.ori * t["_local_a"], sb.pos + sb.ori * t["_local_b"]
+            d = pb - pa
+            length = d.norm()
+            k = self.tie_stiffness(t, getattr(self, "kn", 0.0))
+            T = min(max(k * (length - t["_L0"]) + float(t["prestress"]), 0.0),
+                    float(t["capacity"]))
+            if T <= 0.0 or length <= 0.0:
+                continue
+            f = d * (T / length)
+            if not self.job["blocks"][t["a"]]["fixed"]:
+                forces.addF(self.bid[t["a"]], f)
+                forces.addT(self.bid[t["a"]], (pa - sa.pos).cross(f))
+            if not self.job["blocks"][t["b"]]["fixed"]:
+                forces.addF(self.bid[t["b"]], -f)
+                forces.addT(self.bid[t["b"]], (pb - sb.pos).cross(-f))
 
     def _scales(self):
         """Length, size, time and force scales from the built bodies (``self.radius``)."""
@@ -110,6 +149,12 @@ class BlockModel:
             if self.dim == 2:
                 jmin = s.inertia[2]
             out[i] = 2.0 * stiff * a * (1.0 / s.mass + self.radius[i] ** 2 / jmin)
+        for t in self.ties:  # a tie adds its spring to each free block it holds
+            for i in (t["a"], t["b"]):
+                if i in out:
+                    s = self.states[i]
+                    jmin = s.inertia[2] if self.dim == 2 else min(s.inertia[0], s.inertia[1], s.inertia[2])
+                    out[i] += self.tie_stiffness(t, stiff) * (1.0 / s.mass + self.radius[i] ** 2 / jmin)
         return out
 
     def scale_masses(self, quantile):

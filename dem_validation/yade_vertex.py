@@ -116,6 +116,12 @@ class VertexModel(BlockModel):
 
             __main__._dem_pair_friction = self._pair_friction
             engines.insert(3, PyRunner(iterPeriod=1, command="_dem_pair_friction()", updateGlobals=False))
+        if self.ties:  # their forces each step, after the contacts' and before the integrator
+            import __main__
+
+            self.anchor_ties()
+            __main__._dem_ties = self.apply_ties
+            engines.insert(len(engines) - 1, PyRunner(iterPeriod=1, command="_dem_ties()", updateGlobals=False))
         O.engines = engines
 
     def _pair_friction(self):

@@ -84,3 +84,17 @@ def test_limit_design_writes_the_designed_scene(tmp_path):
     r = subprocess.run([sys.executable, "-m", "limit", "design", str(p), "--target-alpha", "0.3"],
                        capture_output=True, text=True)
     assert r.returncode == 0 and "none needed" in r.stdout
+
+
+@pytest.mark.yade
+def test_yade_carries_the_designed_target_and_not_without_the_tie():
+    """The single tie designed for alpha = 0.6 (784.8 N, above): YADE's pushover of the tied block
+    collapses within 2 % of 0.6, the block without it within 2 % of its own 0.4."""
+    from dem_validation.api import run_scene
+
+    d, tie = _block_with_post(2)
+    out = design(d, [tie], 0.6)
+    tied = run_scene(load_scene(dict(d, ties=out["ties"])))
+    assert tied["status"] == "collapsed" and tied["alpha"] == pytest.approx(0.6, rel=0.02)
+    bare = run_scene(load_scene(d))
+    assert bare["status"] == "collapsed" and bare["alpha"] == pytest.approx(0.4, rel=0.02)

@@ -104,10 +104,28 @@ def test_tie_mistakes_are_named(change, match):
         load_scene(d)
 
 
-def test_the_dem_engines_skip_a_tied_scene_with_the_reason():
+def test_lmgc90_and_yades_polyhedra_skip_a_tied_scene_with_the_reason():
     from dem_validation.api import run_loaded
     from dem_validation.lmgc import run_loaded_lmgc90
 
     s = load_scene(_tied(2))
-    for out in (run_loaded(s, {}), run_loaded_lmgc90(s, {})):
+    for out in (run_loaded(s, {}, contact="polyhedra"), run_loaded_lmgc90(s, {})):
         assert out["status"] == "skipped" and "tie" in out["reason"]
+
+
+@pytest.mark.yade
+@pytest.mark.parametrize("dim", [2, 3])
+def test_yade_carries_the_tie_to_the_closed_form(dim):
+    """YADE's vertex model with the tie as a spring capped at its capacity (dem_validation/
+    yade_model.py, ``apply_ties``) collapses within 2 % of b/h + 2 C / W (first test), and the
+    block without its tie within 2 % of b/h = 0.4."""
+    from dem_validation.api import run_scene
+
+    W = _weight(dim)
+    tied = run_scene(load_scene(_tied(dim)))
+    assert tied["status"] == "collapsed"
+    assert tied["alpha"] == pytest.approx(0.4 + 2 * 1000.0 / W, rel=0.02)
+    bare = _tied(dim)
+    bare.pop("ties")
+    free = run_scene(load_scene(bare))
+    assert free["status"] == "collapsed" and free["alpha"] == pytest.approx(0.4, rel=0.02)
