@@ -217,6 +217,10 @@ def unmodelled(interfaces, scene=None, ties: bool = False) -> str | None:
     if scene is not None and getattr(scene, "ties", ()) and not ties:
         return (f"{len(scene.ties)} tie(s); this engine models blocks and dry joints, not tie rods (YADE's vertex "
                 "model does), so the dynamic check does not run here")
+    fc = getattr(interfaces, "fc", None)
+    if fc is not None and np.any(fc > 0):
+        return (f"{int((fc > 0).sum())} joint(s) have a compressive strength fc; crushing has no rigid-block DEM "
+                "(the blocks and contacts of both engines do not crush), so the dynamic check does not run")
     if getattr(interfaces, "bonded", False):
         n = int(((interfaces.cohesion > 0) | (interfaces.tensile > 0)).sum())
         return (f"{n} joint(s) have cohesion or tensile strength; the DEM contact laws are dry Coulomb "

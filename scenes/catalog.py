@@ -141,6 +141,8 @@ def entries() -> dict:
     for d in paper_entries() + benchmark_entries():
         add(d)
     add(generated_arch_entry())
+    for d in feature_entries():
+        add(d)
     for stage, costs in (("dem", DEM_COST_S), ("lmgc", LMGC_COST_S)):
         for name, cost in costs.items():
             out[name].setdefault("meta", {}).setdefault(stage, {})["cost_s"] = float(cost)
@@ -257,6 +259,51 @@ def benchmark_entries() -> list:
                                                    "note": "No confirmed published value was found; compared "
                                                            "with the DEM and the MILP."}})
     out.append(tilt)
+    return out
+
+
+def feature_entries() -> list:
+    """One scene per joint property and load beyond the paper's model, each with its closed form
+    (their tests: tests/test_ties.py, test_pressure.py, test_cohesion.py, test_crushing.py). A 0.4 m
+    wide, 1.0 m tall block in 2D (1 m thick, W = rho g 0.4 = 7,848 N) on a fixed base."""
+    W = 2000.0 * 9.81 * 0.4
+    out = []
+    tied = B.single_block(dim=2, b=0.4, h=1.0, mu=0.9, name="block-tied-2d",
+                          expected={"alpha": 0.4 + 2 * 1000.0 / W, "rtol": 1e-6,
+                                    "source": "analytic: overturning about the toe against the tie at the top, "
+                                              "alpha W h/2 = W b/2 + C h, alpha = b/h + 2 C / W"},
+                          meta={"title": "A block held back by a tie rod at its top (capacity 1 kN)",
+                                "notes": "The tie yields at its capacity as the block overturns. YADE carries it as "
+                                         "a spring capped at the capacity; LMGC90 has no ties and skips."})
+    tied["blocks"].append(B.box_block("post", [-0.4, 0.5], [0.2, 1.0], fixed=True))
+    tied["ties"] = [{"id": "rod", "from": {"block": "block", "point": [0.0, 1.0]},
+                     "to": {"block": "post", "point": [-0.3, 1.0]}, "capacity": 1000.0}]
+    out.append(tied)
+    out.append(B.single_block(dim=2, b=0.4, h=1.0, mu=0.9, name="block-water-2d",
+                              live=[{"type": "pressure", "blocks": ["block"], "face": [-1.0, 0.0], "value": 0.0,
+                                     "gradient": 9810.0, "level": 1.0}],
+                              expected={"alpha": 3 * W * 0.4 / 9810.0, "rtol": 1e-6,
+                                        "source": "analytic: water to the top, resultant gamma h^2 t / 2 at h/3; "
+                                                  "alpha gamma h^3 t / 6 = W b / 2, alpha = 3 W b / (gamma h^3 t)"},
+                              meta={"title": "A block pushed over by water to its top (alpha times the hydrostatic "
+                                             "pressure)"}))
+    glued = B.single_block(dim=2, b=1.0, h=0.5, mu=0.3, name="block-glued-2d",
+                           expected={"alpha": 0.3 + 2000.0 / (2000.0 * 9.81 * 0.5), "rtol": 1e-6,
+                                     "source": "analytic: Mohr-Coulomb sliding, alpha W = mu W + c A"},
+                           meta={"title": "A squat block on a mortar joint with cohesion 2 kPa",
+                                 "notes": "Both DEM engines' contacts are dry: the dynamic check skips it."})
+    glued["joints"] = [{"between": {"blocks": ["base", "block"]}, "cohesion": 2000.0}]
+    out.append(glued)
+    fc = 10 * W / (4 * 0.4)
+    crushed = B.single_block(dim=2, b=0.4, h=1.0, mu=0.9, name="block-crushing-2d",
+                             expected={"alpha": (0.4 - W / fc) / 1.0, "rtol": 1e-6,
+                                       "source": "analytic: the hinge moves in by W / (2 fc t), alpha = (b - W / "
+                                                 "(fc t)) / h (fc = 10 W / (4 A): a node of the chords, where the "
+                                                 "linearised domain is exact)"},
+                             meta={"title": "A block whose toe crushes (fc = 49 kPa)",
+                                   "notes": "Crushing has no rigid-block DEM: the dynamic check skips it."})
+    crushed["joints"] = [{"between": {"blocks": ["base", "block"]}, "fc": fc}]
+    out.append(crushed)
     return out
 
 
