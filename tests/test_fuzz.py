@@ -255,3 +255,50 @@ def test_joint_group_mutants_are_rejected_or_analysed():
         counts["bonded"] += any((e.get("cohesion") or 0) > 0 or (e.get("tensile_strength") or 0) > 0
                                 for e in js if isinstance(e, dict))
     assert counts["rejected"] > 5 and counts["analysed"] > 10 and counts["bonded"] > 5, counts
+
+
+TIES_SEED, TIES_MUTANTS = 20261130, 60
+TIE_KEYS = ["id", "from", "to", "capacity", "prestress", "colour"]
+TIE_VALUES = ODD + [500.0, 2000.0, "rod", {"block": "block", "point": [0.0, 1.0]},
+                    {"block": "post", "point": [-0.3, 1.0]}, {"block": "block", "point": [0.0, 5.0]},
+                    {"block": "base", "point": [0.0, -0.1]}, {"block": "nope", "point": [0.0, 1.0]},
+                    {"block": "block"}, {"point": [0.0, 1.0]}, {"block": "block", "point": [0.0]}]
+
+
+@pytest.mark.slow  # steps 1 and 2 of every mutant that loads (one block, a post and a tie)
+def test_tie_mutants_are_rejected_or_analysed():
+    """Mutated ``ties`` entries on the catalog's tied block: keys set to odd or plausible values,
+    deleted, entries doubled or dropped. Each mutant is rejected naming ``ties[k]`` (or the schema's
+    key), or analysed, both steps, to a status, never an internal error."""
+    rng = random.Random(TIES_SEED)
+    base = json.loads(next(p for p in catalog_files() if p.stem == "block-tied-2d").read_text())
+    counts = {"rejected": 0, "analysed": 0}
+    for k in range(TIES_MUTANTS):
+        m = copy.deepcopy(base)
+        ts = m["ties"]
+        if rng.random() < 0.2:
+            ts.append(copy.deepcopy(ts[0]) if ts else {})
+        if ts and rng.random() < 0.1:
+            ts.pop(rng.randrange(len(ts)))
+        for _ in range(rng.choice([1, 1, 2])):
+            if not ts:
+                break
+            e = rng.choice(ts)
+            key = rng.choice(TIE_KEYS)
+            if rng.random() < 0.2:
+                e.pop(key, None)
+            else:
+                e[key] = copy.deepcopy(rng.choice(TIE_VALUES))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SceneWarning)
+            try:
+                res = analyse(load_scene(m), method="auto")
+            except SceneError as exc:
+                assert "ties" in str(exc), (k, str(exc))
+                counts["rejected"] += 1
+                continue
+            except Exception as exc:  # noqa: BLE001 - the failure this test exists to catch
+                pytest.fail(f"mutant {k}: internal error {type(exc).__name__}: {exc}\n{json.dumps(m['ties'])}")
+        assert res["lp"]["status"] in STATUSES, (k, res["lp"])
+        counts["analysed"] += 1
+    assert counts["rejected"] > 10 and counts["analysed"] > 10, counts

@@ -142,6 +142,11 @@ def _check_contacts(scene, I) -> None:
                          f"'{loose[0]}', {gap_phrase(scene, int(scene.free[0]))}")
 
 
+#: a tie capacity above this x the sum of the scene's load magnitudes (N) is taken as that: the
+#: tie cannot yield below alpha of that order, and the solvers get a finite bound
+UNBREAKABLE = 1e6
+
+
 def assemble(scene, options: Options | None = None, interfaces: Interfaces | None = None) -> Assembled:
     """Build every matrix of the problem for ``scene`` (timings in ``.timings``, seconds)."""
     options = options or Options()
@@ -174,9 +179,13 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
         from limit.model.ties import generalised_forces
 
         Et = generalised_forces(scene, scene.ties)[keep]
-        model = yield_domain.with_ties(model, [t.capacity for t in scene.ties])
+        # a capacity beyond UNBREAKABLE x the scene's whole load never binds: capped there, so
+        # that no solver sees a bound of 1e300
+        total = float(np.abs(f0).sum() + np.abs(fL).sum()) or 1.0
+        cap = np.minimum([t.capacity for t in scene.ties], UNBREAKABLE * total)
+        model = yield_domain.with_ties(model, cap)
         A = sp.vstack([A, sp.csr_matrix(Et.T)]).tocsr()
-        Dx = np.concatenate([Dx, [t.capacity for t in scene.ties]])
+        Dx = np.concatenate([Dx, np.minimum(cap, total)])
     E = A.T.tocsr()
     E1 = (E @ sp.diags(Dx)).tocsr()
     Df = np.maximum(abs(E1).max(axis=1).toarray().ravel(), 1e-300) if E1.shape[0] else np.ones(0)
