@@ -11,8 +11,17 @@ WEIGHT = 1e4
 
 
 def point_to_hull(p, vertices) -> float:
-    """Distance (m) from point ``p`` (d,) to the convex hull of ``vertices`` (n, d); 0 inside."""
-    return hull_to_hull(np.atleast_2d(np.asarray(p, dtype=float)), vertices)
+    """Distance (m) from point ``p`` (d,) to the convex hull of ``vertices`` (n, d); 0 inside; inf
+    for a point so far out that the least squares overflow (coordinates near 1e308)."""
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    v = np.asarray(vertices, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        if not np.isfinite((p - v.mean(axis=0)) ** 2).all():
+            return float("inf")
+    try:
+        return hull_to_hull(p, v)
+    except ValueError:  # an overflow inside the least squares
+        return float("inf")
 
 
 def hull_to_hull(va, vb) -> float:
