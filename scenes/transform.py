@@ -1,8 +1,9 @@
 """Rigid motions and scaling of whole scenes (for invariance checks and reuse).
 
 :func:`transform` maps every block to ``x -> s * R x + t`` (blocks become
-vertex lists), rotates gravity and load vectors with ``R`` and moves load
-points with the full map. Force magnitudes are left alone; a uniform scale
+vertex lists), rotates gravity, load vectors and pressures' face normals with ``R``,
+moves load points and tie ends with the full map and pressures' levels with its part
+along the vertical. Force magnitudes (and capacities, pressures, stresses) are left alone; a uniform scale
 ``s`` changes masses by s^dim (and by s again through the thickness in 2D when
 ``scale_thickness``).
 """
@@ -50,6 +51,15 @@ def transform(scene: dict, R=None, t=None, s: float = 1.0, scale_thickness: bool
                 ld["force"] = rot(ld["force"])
             if "point" in ld:
                 ld["point"] = mapx(ld["point"])
+            if "face" in ld:
+                ld["face"] = rot(ld["face"])
+            if "level" in ld:  # a height along -gravity: scaled, and moved by t's part along it
+                g = np.asarray(out.get("gravity", [0.0, -9.81] if d == 2 else [0.0, 0.0, -9.81]), dtype=float)
+                ld["level"] = float(s * ld["level"] + t @ (-g / np.linalg.norm(g)))
+    for tie in out.get("ties", []):
+        for side in ("from", "to"):
+            if isinstance(tie.get(side), dict) and "point" in tie[side]:
+                tie[side]["point"] = mapx(tie[side]["point"])
     if d == 2 and scale_thickness and s != 1.0:
         out["thickness"] = out.get("thickness", 1.0) * s
     if "tolerance" in out:

@@ -136,3 +136,16 @@ def test_block_equilibrium_weighs_a_moment_by_the_block_size():
     expect = dM / (W * np.hypot(1.0, sol.alpha) * max(b, h))
     assert verify.block_equilibrium(P, sol.alpha, x) == pytest.approx(expect, rel=1e-6)
     assert P.block_size == pytest.approx([max(b, h)])
+
+
+@pytest.mark.parametrize("name", ["block-tied-2d", "block-water-2d"])
+def test_ties_and_pressures_move_with_the_scene(name):
+    """A mirrored, a translated and a reordered copy of a scene with a tie or a water pressure keep
+    its alpha: the tie's ends and the pressure's face and water level move with the blocks
+    (scenes/transform.py). Scaling is left out: capacities and pressures are not scaled."""
+    d = json.loads(next(p for p in CATALOG if p.stem == name).read_text())
+    a0, *_ = lp_alpha(d)
+    for label, v in {"mirrored": transform(d, R=np.diag([-1.0, 1.0])), "translated": transform(d, t=[3.0, 7.0]),
+                     "reordered": reorder(d, seed=3)}.items():
+        a, *_ = lp_alpha(v)
+        assert a == pytest.approx(a0, rel=1e-9), label
