@@ -160,6 +160,7 @@ def figure(scene, per_block: dict, title: str, ifaces: dict | None = None, inter
         data, frame_data = _traces3d(go, pieces, still, motions, amps, joints, LP, LV)
     else:
         data, frame_data = _traces2d(go, pieces, still, motions, amps, joints, LP, LV)
+    data += _tie_traces(go, scene)
     frames = [go.Frame(name=f"a{k}", data=fd, traces=list(range(len(fd)))) for k, fd in enumerate(frame_data)]
     fig = go.Figure(data=data, frames=frames)
     fig.update_layout(title={"text": title, "font": {"size": 13}}, margin={"l": 0, "r": 0, "t": 40, "b": 60},
@@ -177,6 +178,22 @@ def figure(scene, per_block: dict, title: str, ifaces: dict | None = None, inter
                                  "constrain": "domain"},
                           plot_bgcolor="white", legend={"x": 1.02, "y": 1.0, "xanchor": "left"})
     return fig
+
+
+def _tie_traces(go, scene) -> list:
+    """The scene's tie rods (limit.model.ties) as one dashed line trace, drawn at rest."""
+    ties = getattr(scene, "ties", ())
+    if not ties:
+        return []
+    cols = [[], [], []]
+    for t in ties:
+        for k in range(scene.dim):
+            cols[k] += [float(t.pa[k]), float(t.pb[k]), None]
+    style = {"mode": "lines", "name": "tie rod" + ("s" if len(ties) > 1 else ""),
+             "line": {"color": "#8e1b1b", "width": 4, "dash": "dash"}, "hoverinfo": "skip"}
+    if scene.dim == 3:
+        return [go.Scatter3d(x=cols[0], y=cols[1], z=cols[2], **style)]
+    return [go.Scatter(x=cols[0], y=cols[1], **style)]
 
 
 def _traces3d(go, pieces, still, motions, amps, joints, LP, LV):

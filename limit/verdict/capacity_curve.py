@@ -230,6 +230,10 @@ def _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc) -> dict:
     from limit.model.loads import dead_and_live
 
     I = find_interfaces(scene) if interfaces is None else interfaces
+    if getattr(scene, "ties", ()) or I.bonded or bool((I.fc > 0).any()):
+        raise ValueError("the capacity curve follows the loads' work alone, and this scene has "
+                         + ("tie rods" if getattr(scene, "ties", ()) else "bonded or crushing joints")
+                         + ", whose work along the mechanism it does not count")
     ch = Chain(scene, I, mechanism)
     f0, fL = dead_and_live(scene)
     dirn = horizontal_direction(scene)
