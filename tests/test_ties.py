@@ -129,3 +129,14 @@ def test_yade_carries_the_tie_to_the_closed_form(dim):
     bare.pop("ties")
     free = run_scene(load_scene(bare))
     assert free["status"] == "collapsed" and free["alpha"] == pytest.approx(0.4, rel=0.02)
+
+
+def test_the_capacity_curve_is_refused_for_a_tied_scene():
+    """The finite-displacement curve counts the loads' work alone: with a tie it would start from
+    the untied block's 0.4, so it is refused, saying why."""
+    from limit.verdict.capacity_curve import follow
+
+    s = load_scene(_tied(2))
+    lp = analyse(s, method="lp")["lp"]
+    with pytest.raises(ValueError, match="tie rods"):
+        follow(s, lp["mechanism"], lp["alpha"])
