@@ -52,8 +52,13 @@ LMGC_BUDGET_S = 250.0
 
 
 def la_options(scene_data: dict) -> dict:
-    return {"method": "auto", "global_max_free": GLOBAL_MAX_FREE, "iterative_max_free": ITERATIVE_MAX_FREE,
-            "global_time_limit": GLOBAL_TIME_LIMIT}
+    """The ``la`` stage's options; a scene's ``meta.la`` may raise ``global_max_free`` and
+    ``global_time_limit`` (a scene whose step 2 is known to stop above a lower state gets the MILP,
+    which then reports the best point and its proven lower bound: an interval)."""
+    spec = (scene_data.get("meta") or {}).get("la") or {}
+    return {"method": "auto", "global_max_free": int(spec.get("global_max_free", GLOBAL_MAX_FREE)),
+            "iterative_max_free": ITERATIVE_MAX_FREE,
+            "global_time_limit": float(spec.get("global_time_limit", GLOBAL_TIME_LIMIT))}
 
 
 def limits(spec: dict, cpu_floor: float) -> dict:
