@@ -78,3 +78,17 @@ def test_a_pressure_on_no_face_is_rejected_naming_it():
     with pytest.raises(SceneError, match=r"loads\.live\[0\]\.face"):
         load_scene(_block(2, value=1000.0) | {"loads": {"live": [
             {"type": "pressure", "blocks": ["block"], "face": [0.0, 0.0], "value": 5.0}]}})
+
+
+@pytest.mark.yade
+@pytest.mark.lmgc90
+def test_both_engines_carry_the_water_pressure_to_the_closed_form():
+    """The pressure enters the DEM as each block's generalised force, like every load: YADE and
+    LMGC90 collapse the catalog's block-water-2d within 2 % of 3 W b / (gamma h^3 t) = 0.96."""
+    from dem_validation.api import run_scene
+    from tests.conftest import ROOT
+
+    s = load_scene(ROOT / "scenes" / "catalog" / "block-water-2d.json")
+    for engine in ("yade", "lmgc90"):
+        out = run_scene(s, engine=engine)
+        assert out["status"] == "collapsed" and out["alpha"] == pytest.approx(0.96, rel=0.02), engine
