@@ -45,3 +45,12 @@ def hull_to_hull(va, vb) -> float:
 def pieces_distance(pieces_a, pieces_b) -> float:
     """Least distance (m) between two blocks given as lists of convex pieces (geometry.Polytope)."""
     return min(hull_to_hull(pa.vertices, pb.vertices) for pa in pieces_a for pb in pieces_b)
+
+
+def inside(point, polys, tol: float) -> bool:
+    """Whether ``point`` (d,) lies in one of the convex ``polys`` (geometry.Polytope), each face
+    plane allowed to pass ``tol`` (m) short of it."""
+    p = np.asarray(point, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return any(float(np.max(poly.face_normals @ p - poly.face_offsets)) <= tol for poly in polys)
+

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from limit.errors import SceneError
-from limit.model.hull_distance import point_to_hull
+from limit.model.hull_distance import inside, point_to_hull
 
 
 class NoLiveWork(SceneError):
@@ -26,13 +26,6 @@ def check_loads(scene) -> None:
             if ld["type"] == "point_force" and "point" in ld:
                 check_point(scene, ld, f"loads.{case}[{k}]")
     check_live_work(scene)
-
-
-def inside(point, polys, tol: float) -> bool:
-    """Whether ``point`` (d,) lies in one of the convex ``polys`` (geometry.Polytope), each face
-    plane allowed to pass ``tol`` (m) short of it."""
-    p = np.asarray(point, dtype=float)
-    return any(float(np.max(poly.face_normals @ p - poly.face_offsets)) <= tol for poly in polys)
 
 
 def check_point(scene, ld: dict, where: str) -> None:

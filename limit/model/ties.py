@@ -61,8 +61,7 @@ def parse_ties(entries: list, ids: dict, blocks: list, dim: int, tolerance: floa
     entry and key: an unknown block, a point of the wrong length or outside its block (beyond
     ``tolerance``, m), two ends at one point or on one block, two fixed ends, a capacity that is
     not a positive force, a prestress above the capacity, a repeated id."""
-    from limit.model.hull_distance import point_to_hull
-    from limit.model.load_checks import inside
+    from limit.model.hull_distance import inside, point_to_hull
 
     out, seen = [], set()
     for k, e in enumerate(entries):
