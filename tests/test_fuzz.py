@@ -205,6 +205,44 @@ def test_demand_mutants_are_rejected_or_checked():
     assert counts["rejected"] > 10 and counts["checked"] > 10 and counts["site"] > 3, counts
 
 
+def _mutate_entries(entries: list, rng, keys, values, pick_copy) -> list:
+    """One seeded mutation of a list of objects, in place: an entry doubled (``pick_copy`` chooses
+    which) or dropped now and then, then one or two of its entries' keys set to one of ``values``
+    or deleted. Returns the list."""
+    if rng.random() < 0.2:
+        entries.append(copy.deepcopy(pick_copy(entries)) if entries else {})
+    if entries and rng.random() < 0.1:
+        entries.pop(rng.randrange(len(entries)))
+    for _ in range(rng.choice([1, 1, 2])):
+        if not entries:
+            break
+        e = rng.choice(entries)
+        key = rng.choice(keys)
+        if rng.random() < 0.2:
+            e.pop(key, None)
+        else:
+            e[key] = copy.deepcopy(rng.choice(values))
+    return entries
+
+
+def _analysed(m: dict, k: int, key: str, counts: dict) -> bool:
+    """Mutant ``k`` (the scene ``m``) analysed, both steps, to a status (True), or rejected naming
+    ``key`` (False, counted); an internal error fails the test, showing ``m[key]``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SceneWarning)
+        try:
+            res = analyse(load_scene(m), method="auto")
+        except SceneError as exc:
+            assert key in str(exc), (k, str(exc))
+            counts["rejected"] += 1
+            return False
+        except Exception as exc:  # noqa: BLE001 - the failure this test exists to catch
+            pytest.fail(f"mutant {k}: internal error {type(exc).__name__}: {exc}\n{json.dumps(m[key])}")
+    assert res["lp"]["status"] in STATUSES, (k, res["lp"])
+    counts["analysed"] += 1
+    return True
+
+
 JOINTS_SEED, JOINTS_MUTANTS = 20261129, 60
 JOINT_KEYS = ["mu", "cohesion", "tensile_strength", "fc", "between", "colour"]
 JOINT_VALUES = ODD + [0.2, 0.6, 1.5, 500.0, 2e4, 3e5, {"blocks": ["s0", "s1"]}, {"tags": ["course-0", "course-1"]},
@@ -226,34 +264,10 @@ def test_joint_group_mutants_are_rejected_or_analysed():
     counts = {"rejected": 0, "analysed": 0, "bonded": 0}
     for k in range(JOINTS_MUTANTS):
         m = copy.deepcopy(base)
-        js = m["joints"]
-        if rng.random() < 0.2:
-            js.append(copy.deepcopy(rng.choice(js)) if js else {})
-        if js and rng.random() < 0.1:
-            js.pop(rng.randrange(len(js)))
-        for _ in range(rng.choice([1, 1, 2])):
-            if not js:
-                break
-            e = rng.choice(js)
-            key = rng.choice(JOINT_KEYS)
-            if rng.random() < 0.2:
-                e.pop(key, None)
-            else:
-                e[key] = copy.deepcopy(rng.choice(JOINT_VALUES))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", SceneWarning)
-            try:
-                res = analyse(load_scene(m), method="auto")
-            except SceneError as exc:
-                assert "joints" in str(exc), (k, str(exc))
-                counts["rejected"] += 1
-                continue
-            except Exception as exc:  # noqa: BLE001 - the failure this test exists to catch
-                pytest.fail(f"mutant {k}: internal error {type(exc).__name__}: {exc}\n{json.dumps(m['joints'])}")
-        assert res["lp"]["status"] in STATUSES, (k, res["lp"])
-        counts["analysed"] += 1
-        counts["bonded"] += any((e.get("cohesion") or 0) > 0 or (e.get("tensile_strength") or 0) > 0
-                                for e in js if isinstance(e, dict))
+        js = _mutate_entries(m["joints"], rng, JOINT_KEYS, JOINT_VALUES, lambda es: rng.choice(es))
+        if _analysed(m, k, "joints", counts):
+            counts["bonded"] += any((e.get("cohesion") or 0) > 0 or (e.get("tensile_strength") or 0) > 0
+                                    for e in js if isinstance(e, dict))
     assert counts["rejected"] > 5 and counts["analysed"] > 10 and counts["bonded"] > 5, counts
 
 
@@ -275,30 +289,6 @@ def test_tie_mutants_are_rejected_or_analysed():
     counts = {"rejected": 0, "analysed": 0}
     for k in range(TIES_MUTANTS):
         m = copy.deepcopy(base)
-        ts = m["ties"]
-        if rng.random() < 0.2:
-            ts.append(copy.deepcopy(ts[0]) if ts else {})
-        if ts and rng.random() < 0.1:
-            ts.pop(rng.randrange(len(ts)))
-        for _ in range(rng.choice([1, 1, 2])):
-            if not ts:
-                break
-            e = rng.choice(ts)
-            key = rng.choice(TIE_KEYS)
-            if rng.random() < 0.2:
-                e.pop(key, None)
-            else:
-                e[key] = copy.deepcopy(rng.choice(TIE_VALUES))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", SceneWarning)
-            try:
-                res = analyse(load_scene(m), method="auto")
-            except SceneError as exc:
-                assert "ties" in str(exc), (k, str(exc))
-                counts["rejected"] += 1
-                continue
-            except Exception as exc:  # noqa: BLE001 - the failure this test exists to catch
-                pytest.fail(f"mutant {k}: internal error {type(exc).__name__}: {exc}\n{json.dumps(m['ties'])}")
-        assert res["lp"]["status"] in STATUSES, (k, res["lp"])
-        counts["analysed"] += 1
+        _mutate_entries(m["ties"], rng, TIE_KEYS, TIE_VALUES, lambda es: es[0])
+        _analysed(m, k, "ties", counts)
     assert counts["rejected"] > 10 and counts["analysed"] > 10, counts
