@@ -10,7 +10,7 @@ import numpy as np
 
 from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
-from limit.results.result_parts import interfaces_part, ties_part
+from limit.results.result_parts import interfaces_part, ties_line, ties_part
 
 
 ALL_STRATEGIES = ("penalty", "random", "friction", "coarse")
@@ -323,8 +323,7 @@ def _point_part(P, N, z) -> dict:
            "_summary": ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]}
     if P.scene.ties:
         out["ties"] = ties_part(P, x, u)
-        out["_summary"].append("    ties: " + ", ".join(f"{t['id']} {t['state']} at {t['tension']:.4g} N"
-                                                       for t in out["ties"]))
+        out["_summary"].append(ties_line(out["ties"]))
     return out
 
 

@@ -65,3 +65,9 @@ def interfaces_part(P, r, cls) -> dict:
         "stress": np.asarray(r).reshape(-1, nq).tolist(),
         **{k: np.flatnonzero(v).tolist() for k, v in cls.items()},
     }
+
+
+def ties_line(ties: list) -> str:
+    """One summary line of :func:`ties_part`'s entries."""
+    return "    ties: " + ", ".join(f"{t['id']} {t['state']} at {t['tension']:.4g} N" for t in ties)
+

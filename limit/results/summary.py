@@ -1,6 +1,7 @@
 """The short human summary printed by ``python -m limit solve``."""
 from __future__ import annotations
 
+from limit.results.result_parts import ties_line
 from limit.solve import mechanism
 def _alpha(part: dict) -> str:
     a = part.get("alpha")
@@ -24,7 +25,7 @@ def format_result(res: dict) -> str:
         lines.append("  mechanism (associative):")
         lines += ["  " + s for s in _joint_lines(lp["interfaces"], res["dim"])]
     if lp.get("ties"):
-        lines.append("    ties: " + ", ".join(f"{t['id']} {t['state']} at {t['tension']:.4g} N" for t in lp["ties"]))
+        lines.append(ties_line(lp["ties"]))
     nlp = res.get("nlp")
     if nlp:
         lines.append(f"NLP ({nlp.get('solver', '-')}): {_alpha(nlp)}  [{nlp['status']}, {nlp.get('time_s', 0):.3g} s]"
