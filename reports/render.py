@@ -365,6 +365,12 @@ def scene_summary(r, la: dict | None = None) -> list[str]:
         how.append(f"global MILP {g['status']}" + (f" {g['alpha']:.6g}" if _finite(g.get("alpha")) else ""))
     if how:
         out[-1] = out[-1][:-1] + f" [{'; '.join(how)}]."
+    lb = (la or {}).get("lower_bound") or {}
+    if lb.get("status"):
+        out.append("Lower bound with cohesion (Radenkovic: friction removed, cohesion kept): "
+                   + (f"alpha = {lb['alpha']:.6g}" + (f"; the frictional minimum lies in [{lb['alpha']:.6g}, "
+                                                     f"{r['fric_alpha']:.6g}]" if _finite(r['fric_alpha']) else "") + "."
+                      if _finite(lb.get("alpha")) else f"{lb['status']}: {lb.get('reason', '')}."))
     if r["dim"] == 3 and _finite(r.get("cone_lp_alpha")):
         out.append(f"With the near-circular friction cone of the dynamic engines: LP {_num(r.get('cone_lp_alpha'), '.6g')}, "
                    f"step 2 {_num(r.get('cone_alpha'), '.6g')}.")

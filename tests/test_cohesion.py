@@ -144,3 +144,41 @@ def test_the_independent_routes_carry_the_cohesion():
     assert res["nlp"]["global"]["status"] == "optimal"
     assert res["nlp"]["global"]["alpha"] == pytest.approx(want, rel=1e-6)
     assert res["nlp"]["iterative_lp"]["alpha"] == pytest.approx(want, rel=1e-6)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("model", ["paper", "vertex"])
+def test_radenkovic_bound_of_a_glued_block_is_its_friction_free_slide(dim, model):
+    """The lower bound (paper, section 3; limit/solve/radenkovic.py): the associative collapse of
+    the joint with friction removed and the least sliding strength c' A, c' = c - mu ft' with
+    ft' = min(ft, c / mu). The block of test_a_glued_block_slides_at_mu_plus_cA_over_W (2D: W =
+    9,810 N, A = 1 m^2; 3D: W = 3,924 N, A = 0.4 m^2), mu 0.3:
+    * c = 2,000 Pa, ft = 0: c' A / W = 0.203874 (both dims), below step 2's 0.503874;
+    * c = 2,000 Pa, ft = 1,000 Pa: c' = 1,700 Pa, alpha = 0.173293.
+    Overturning without friction is the same (b/h)(1 + ft' A / W) >= 2, so sliding governs."""
+    W = RHO_G * 1.0 * 0.5 * (0.4 if dim == 3 else 1.0)
+    A = 0.4 if dim == 3 else 1.0
+    for ft, c_eff in ((0.0, 2000.0), (1000.0, 1700.0)):
+        res = analyse(load_scene(_glued(dim, cohesion=2000.0, tensile_strength=ft)), method="nlp",
+                      options=Options(model=model))
+        lb = res["lower_bound"]
+        assert lb["method"] == "radenkovic" and lb["status"] == "optimal"
+        assert lb["alpha"] == pytest.approx(c_eff * A / W, rel=1e-6)
+        assert lb["alpha"] < res["nlp"]["alpha"]
+
+
+def test_radenkovic_bound_is_absent_on_dry_joints_and_uninformative_when_friction_carries_the_dead_load():
+    """Dry joints: no bound is computed (it would be 0). A 1 x 0.5 m block on a base inclined so
+    that friction alone holds it under its weight: with a small cohesion the friction-free body
+    cannot carry the dead load, and the bound says so (status infeasible, alpha None).
+    Inclination: gravity tilted by 10 deg (tan 10 = 0.176 < mu 0.3); c A = 100 N against the
+    dead-load shear W sin 10 = 1,703 N."""
+    res = analyse(load_scene(_glued(2)), method="lp")
+    assert "lower_bound" not in res
+    d = _glued(2, cohesion=100.0)
+    g = 9.81
+    d["gravity"] = [g * math.sin(math.radians(10)), -g * math.cos(math.radians(10))]
+    res = analyse(load_scene(d), method="lp")
+    assert res["lp"]["status"] == "optimal"
+    assert res["lower_bound"]["status"] == "infeasible" and res["lower_bound"]["alpha"] is None
+    assert "dead load" in res["lower_bound"]["reason"]

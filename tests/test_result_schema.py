@@ -19,6 +19,7 @@ CASES = [
     ("portal-3d", [], "optimal", "skipped"),
     ("block-sliding-3d", ["--method", "nlp"], "optimal", "optimal"),
     ("paper-fig2a-double-arch-2d", [], "infeasible", "infeasible"),
+    ("block-glued-2d", [], "optimal", "optimal"),  # with the Radenkovic lower bound
 ]
 
 
@@ -43,6 +44,7 @@ def test_catalog_results_validate(name, opts, lp_status, nlp_status, results, va
     res = results[name]
     assert res["lp"]["status"] == lp_status
     assert res.get("nlp", {}).get("status") == nlp_status
+    assert ("lower_bound" in res) == (name == "block-glued-2d")  # only where a joint is bonded
     validate(res)
 
 

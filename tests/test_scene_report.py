@@ -68,6 +68,19 @@ def test_report_reruns_from_the_cache(block2d, tmp_path):
     assert "3 stage results cached, 0 to run" in q.stderr
 
 
+def test_report_of_a_glued_block_shows_the_certified_interval(tmp_path):
+    """A 1.0 x 0.5 m block on a joint with mu 0.3 and c = 2,000 Pa (A = 1 m^2, W = 9,810 N):
+    step 2 slides at mu + c A / W = 0.503874, the Radenkovic bound (friction removed, cohesion
+    kept) at c A / W = 0.203874 (tests/test_cohesion.py derives both)."""
+    d = B.single_block(dim=2, b=1.0, h=0.5, mu=0.3, name="glued-2d")
+    d["joints"] = [{"between": {"blocks": ["base", "block"]}, "cohesion": 2000.0}]
+    p, out = _report(tmp_path, d, "--dem", "none")
+    assert p.returncode == 0, p.stderr
+    page = (out / "glued-2d.html").read_text()
+    assert "Lower bound with cohesion (Radenkovic: friction removed, cohesion kept): alpha = 0.203874; " \
+           "the frictional minimum lies in [0.203874, 0.503874]." in page
+
+
 def test_rejected_scene_is_one_line_exit_2(tmp_path):
     bad = B.single_block(dim=2, name="bad")
     bad["blocks"][1]["vertices"] = [[0, 0], [1, 0]]

@@ -53,7 +53,23 @@ def format_result(res: dict) -> str:
             a = it.get("alpha")
             lines.append(f"iterative LP (Gilbert et al. 2006): {'alpha = %.6g' % a if a is not None else '-'}  "
                          f"[{it['status']}, {it.get('iterations')} LPs]")
+    lb = res.get("lower_bound")
+    if lb:
+        lines.append(bound_line(lb, nlp))
     return "\n".join(lines)
+
+
+def bound_line(lb: dict, nlp: dict | None) -> str:
+    """The lower bound's line (:mod:`limit.solve.radenkovic`), with the interval it gives the
+    frictional minimum when step 2 has a verified alpha."""
+    a = lb.get("alpha")
+    line = (f"lower bound (Radenkovic, friction removed, cohesion kept): "
+            f"{'alpha = %.6g' % a if a is not None else '-'}  [{lb['status']}, {lb.get('time_s') or 0:.3g} s]")
+    if a is None:
+        return line + (f"  {lb['reason']}" if lb.get("reason") else "")
+    if nlp and nlp.get("status") == "optimal" and nlp.get("alpha") is not None:
+        line += f"\n  the frictional minimum lies in [{a:.6g}, {nlp['alpha']:.6g}]"
+    return line
 
 
 def _joint_lines(ifaces: dict, dim: int, limit: int = 8) -> list[str]:
