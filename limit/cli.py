@@ -130,10 +130,20 @@ def _parser() -> argparse.ArgumentParser:
     pd = sub.add_parser("design", help="tie design: the least total tie capacity at which the frictional alpha "
                                        "reaches a target")
     pd.add_argument("scene")
-    pd.add_argument("--target-alpha", type=float, required=True, metavar="A", help="the collapse multiplier to reach")
-    pd.add_argument("--candidates", default=None, metavar="FILE",
+    pd.add_argument("--target-alpha", type=float, default=None, metavar="A",
+                    help="the collapse multiplier to reach; default: the alpha at which the code check of the "
+                         "scene's 'demand' passes (its linear SLV and SLD checks)")
+    cg = pd.add_mutually_exclusive_group()
+    cg.add_argument("--candidates", default=None, metavar="FILE",
                     help="a JSON list of candidate ties (the scene's tie format; a 'capacity' is an upper bound); "
                          "default: the scene's own 'ties'")
+    cg.add_argument("--wall-to-wall", nargs=2, default=None, metavar=("TAG_A", "TAG_B"),
+                    help="generate the candidates: at each --levels height, a tie between every block tagged "
+                         "TAG_A and every block tagged TAG_B that the level cuts ('*': any block; "
+                         "limit/tie_candidates.py)")
+    pd.add_argument("--levels", type=float, nargs="+", default=None, metavar="Z",
+                    help="heights of the generated candidates, in the scene's units (default: mid-height of "
+                         "TAG_A's top course)")
     pd.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
                     help="the analysis that checks each trial (default auto: step 2 where it can change the answer)")
     pd.add_argument("-o", "--output", default=None, metavar="OUT.json", help="write the designed scene here")
@@ -213,7 +223,15 @@ def cmd_design(args) -> int:
     with open(args.scene) as fh:
         data = json.load(fh)  # in its own units, as the candidates
     keep = []
-    if args.candidates:
+    if args.levels is not None and not args.wall_to_wall:
+        raise SceneError("--levels: goes with --wall-to-wall TAG_A TAG_B")
+    if args.wall_to_wall:
+        from limit.tie_candidates import wall_to_wall
+
+        cands = wall_to_wall(data, *args.wall_to_wall, levels=args.levels)
+        keep = list(data.get("ties", []))
+        print(f"{len(cands)} candidate ties, wall to wall", file=sys.stderr)
+    elif args.candidates:
         try:
             with open(args.candidates) as fh:
                 cands = json.load(fh)
@@ -224,9 +242,14 @@ def cmd_design(args) -> int:
         keep = list(data.get("ties", []))
     else:
         cands = list(data.get("ties", []))
+    tell = lambda t: print(f"  {t}", file=sys.stderr, flush=True)  # noqa: E731
     try:
-        out = design(data, cands, args.target_alpha, method=args.method, keep=keep,
-                     progress=lambda t: print(f"  {t}", file=sys.stderr, flush=True))
+        if args.target_alpha is None:
+            from limit.tie_design import design_for_demand
+
+            out = design_for_demand(data, cands, method=args.method, keep=keep, progress=tell)
+        else:
+            out = design(data, cands, args.target_alpha, method=args.method, keep=keep, progress=tell)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
     lp = out["lp_capacities"]
@@ -241,8 +264,12 @@ def cmd_design(args) -> int:
     alpha = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else res["lp"].get("alpha")
     print(f"designed ties (step 2's check: capacities x {out['factor']:.4g} of the LP's): " + (", ".join(
         f"{t.get('id', '?')} {t['capacity']:.6g} N" for t in out["ties"]) or "none needed"))
-    print(f"alpha: LP {res['lp'].get('alpha')}, frictional {alpha} (target {args.target_alpha:g}); "
+    print(f"alpha: LP {res['lp'].get('alpha')}, frictional {alpha} (target {out['target']:.6g}); "
           f"{out['time_s']:.1f} s")
+    if out.get("check"):
+        from limit.verdict.local_check import verdict_lines
+
+        print("\n".join(verdict_lines(res["verdict"])))
     if args.output:
         jsonio.write_json(args.output, dict(data, ties=keep + out["ties"]))
         print(f"wrote {args.output}")
