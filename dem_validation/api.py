@@ -90,7 +90,7 @@ def run_loaded(scene, p: dict, *, timeout_s=None, progress=None, yade=None, keep
         return failed(f"contact polyhedra: one convex body per block, and block '{compound[0]}' is compound "
                       "(the vertex model, the default, clumps its parts)", time_s=0.0, params=used)
     I = find_interfaces(scene) if interfaces is None else interfaces
-    why = unmodelled(I, scene, ties=contact == "vertex")
+    why = unmodelled(I, scene, ties=contact == "vertex", bonds=contact == "vertex")
     if why:
         return {"status": "skipped", "alpha": None, "reason": why, "time_s": 0.0, "params": used}
     f0, fL = dead_and_live(scene)

@@ -181,6 +181,7 @@ def build_job(scene, interfaces, f0, fL, params: dict, result="result.json", con
         "friction": float(scene.friction),
         "friction_pairs": _friction_pairs(scene, interfaces),
         "ties": _ties(scene),
+        "bonds": bonds(scene, interfaces),
         "rho_g": rho_g(scene),
         "gravity_norm": float(np.linalg.norm(scene.gravity)),
         "params": dict(params),
@@ -199,6 +200,29 @@ def _ties(scene) -> list:
              "prestress": float(t.prestress)} for t in getattr(scene, "ties", ())]
 
 
+def bonds(scene, interfaces) -> list:
+    """The bonded joints for YADE's vertex model: ``[{"a", "b" (block indices), "normal" (3,
+    unit, out of a), "points" (k, 3) m (the joint polygon's corners; a 2D joint's two ends at half
+    the thickness), "clamp" (N, over the whole joint), "cohesion" (N, over the whole joint)}]``.
+
+    A joint of area A with cohesion c, tensile strength ft and friction mu (the limit analysis's
+    vertex model, :mod:`limit.model.yield_domain`) has N >= -ft' A, ft' = min(ft, c / mu), and
+    |V| <= mu N + c A. A dry contact pressed by an extra force P = ft' A (``clamp``, pulling the
+    blocks together at the corners) carries N + P >= 0 and |V| <= mu (N + P) + c' A with c' = c - mu
+    ft' (``cohesion``): the same domain (``yade_vertex.VertexModel.apply_bonds``)."""
+    out = []
+    for k in np.flatnonzero((interfaces.cohesion > 0) | (interfaces.tensile > 0)):
+        mu, c, ft, A = (float(x[k]) for x in (interfaces.mu, interfaces.cohesion, interfaces.tensile, interfaces.area))
+        ft = min(ft, c / mu) if mu > 0 else ft
+        pts = np.asarray(interfaces.polygons[k], dtype=float)
+        if scene.dim == 2:
+            pts = np.column_stack([pts, np.full(len(pts), 0.5 * float(scene.thickness))])
+        out.append({"a": int(interfaces.a[k]), "b": int(interfaces.b[k]),
+                    "normal": np.pad(np.asarray(interfaces.normal[k], dtype=float), (0, 3 - scene.dim)).tolist(),
+                    "points": pts.tolist(), "clamp": ft * A, "cohesion": max(c - mu * ft, 0.0) * A})
+    return out
+
+
 def _friction_pairs(scene, interfaces) -> list:
     """[[i, j, mu]] of the block pairs whose joints do not have the scene's friction: the
     ``interfaces.friction`` pairs and the ``joints`` groups, as the interfaces carry them."""
@@ -209,11 +233,11 @@ def _friction_pairs(scene, interfaces) -> list:
     return [[int(i), int(j), float(mu)] for (i, j), mu in sorted(pairs.items())]
 
 
-def unmodelled(interfaces, scene=None, ties: bool = False) -> str | None:
-    """Why an engine cannot run a scene with these interfaces (None: it can): the contact laws are
-    dry Coulomb friction, so a joint with cohesion or tensile strength (the scene's ``joints``
-    groups) is not modelled; tie rods (its ``ties``) only where the engine has them (``ties``:
-    YADE's vertex model). The run is skipped with this reason."""
+def unmodelled(interfaces, scene=None, ties: bool = False, bonds: bool = False) -> str | None:
+    """Why an engine cannot run a scene with these interfaces (None: it can): joints with cohesion
+    or tensile strength (the scene's ``joints`` groups) only where the engine has them (``bonds``:
+    YADE's vertex model, :func:`bonds`), tie rods (its ``ties``) likewise (``ties``); crushing
+    nowhere. The run is skipped with this reason."""
     if scene is not None and getattr(scene, "ties", ()) and not ties:
         return (f"{len(scene.ties)} tie(s); this engine models blocks and dry joints, not tie rods (YADE's vertex "
                 "model does), so the dynamic check does not run here")
@@ -221,9 +245,9 @@ def unmodelled(interfaces, scene=None, ties: bool = False) -> str | None:
     if fc is not None and np.any(fc > 0):
         return (f"{int((fc > 0).sum())} joint(s) have a compressive strength fc; crushing has no rigid-block DEM "
                 "(the blocks and contacts of both engines do not crush), so the dynamic check does not run")
-    if getattr(interfaces, "bonded", False):
+    if getattr(interfaces, "bonded", False) and not bonds:
         n = int(((interfaces.cohesion > 0) | (interfaces.tensile > 0)).sum())
-        return (f"{n} joint(s) have cohesion or tensile strength; the DEM contact laws are dry Coulomb "
-                "friction, so the dynamic check does not model them")
+        return (f"{n} joint(s) have cohesion or tensile strength; this engine's contacts are dry Coulomb "
+                "friction (YADE's vertex model bonds them), so the dynamic check does not run here")
     return None
 

@@ -111,7 +111,14 @@ class VertexModel(BlockModel):
                             [self.law]),
             self.newton,
         ]
-        if self.friction:
+        self.bonds = list(self.job.get("bonds") or [])
+        if self.bonds:  # clamps and cohesion each step, after the contacts and before the integrator
+            import __main__
+
+            self.anchor_bonds()
+            __main__._dem_bonds = self.apply_bonds
+            engines.insert(3, PyRunner(iterPeriod=1, command="_dem_bonds()", updateGlobals=False))
+        elif self.friction:
             import __main__
 
             __main__._dem_pair_friction = self._pair_friction
@@ -133,6 +140,57 @@ class VertexModel(BlockModel):
                 mu = fr.get((a, b) if a < b else (b, a))
                 if mu is not None:
                     inter.phys.tangensOfFrictionAngle = mu
+
+    def anchor_bonds(self):
+        """Each bonded joint's corners and normal in its block a's frame (called once the bodies
+        are built); ``self.bond_of``: block pair -> bond."""
+        self.bond_of = {}
+        for b in self.bonds:
+            s = O.bodies[self.bid[b["a"]]].state
+            q = s.ori.conjugate()
+            b["_local"] = [q * (Vector3(*p) - s.pos) for p in b["points"]]
+            b["_n"] = q * Vector3(*b["normal"])
+            self.bond_of[(min(b["a"], b["b"]), max(b["a"], b["b"]))] = b
+
+    def apply_bonds(self):
+        """The bonded joints for this step (``dem_validation.job.bonds``): each joint's clamp
+        P = ft' A, split equally over its corners, pulls block a along the joint's normal towards
+        b and b back (constant, so the joint's tension stays capped at ft' A however far it opens:
+        rigid-plastic, as the limit analysis takes it); each contact of the pair gets the friction
+        coefficient mu + (c' A / n) / Fn, n the pair's loaded contacts, so that its Coulomb cap is
+        mu Fn + c' A / n and the joint's is mu (N + P) + c' A = mu N + c A (the contact law stays
+        the stock, perfectly plastic one). Other pairs get their own mu, as
+        :meth:`_pair_friction`. Fn is this step's normal force, floored at 1e-3 of the force scale."""
+        own, fr, mu0 = self.owner, self.friction, self.friction_default
+        forces = O.forces
+        for b in self.bonds:
+            if b["clamp"] <= 0.0:
+                continue
+            sa = O.bodies[self.bid[b["a"]]].state
+            f = (sa.ori * b["_n"]) * (b["clamp"] / len(b["_local"]))
+            for loc in b["_local"]:
+                p = sa.pos + sa.ori * loc
+                for blk, sign in ((b["a"], 1.0), (b["b"], -1.0)):
+                    if not self.job["blocks"][blk]["fixed"]:
+                        st = O.bodies[self.bid[blk]].state
+                        forces.addF(self.bid[blk], f * sign)
+                        forces.addT(self.bid[blk], (p - st.pos).cross(f * sign))
+        count, live = {}, []
+        for inter in O.interactions:
+            if not inter.isReal:
+                continue
+            a, c = own[inter.id1], own[inter.id2]
+            key = (a, c) if a < c else (c, a)
+            live.append((inter, key))
+            if key in self.bond_of and inter.phys.normalForce.norm() > 0.0:
+                count[key] = count.get(key, 0) + 1
+        floor = 1e-3 * self.force_scale
+        for inter, key in live:
+            mu = fr.get(key, mu0)
+            b = self.bond_of.get(key)
+            if b is not None and b["cohesion"] > 0.0 and count.get(key):
+                mu += b["cohesion"] / count[key] / max(inter.phys.normalForce.norm(), floor)
+            inter.phys.tangensOfFrictionAngle = mu
 
     def set_stiffness(self, eps):
         """Contact stiffness for settlement strain ``eps``: kn = rho g / eps (N/m^3), a point

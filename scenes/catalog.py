@@ -295,7 +295,8 @@ def feature_entries() -> list:
                            expected={"alpha": 0.3 + 2000.0 / (2000.0 * 9.81 * 0.5), "rtol": 1e-6,
                                      "source": "analytic: Mohr-Coulomb sliding, alpha W = mu W + c A"},
                            meta={"title": "A squat block on a mortar joint with cohesion 2 kPa",
-                                 "notes": "Both DEM engines' contacts are dry: the dynamic check skips it."})
+                                 "notes": "YADE's vertex model bonds the joint (its cohesion shared over the "
+                                          "contacts' Coulomb caps); LMGC90's contacts are dry and it skips."})
     glued["joints"] = [{"between": {"blocks": ["base", "block"]}, "cohesion": 2000.0}]
     out.append(glued)
     fc = 10 * W / (4 * 0.4)

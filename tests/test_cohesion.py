@@ -121,13 +121,14 @@ def test_a_bad_stress_is_named(key, value):
         load_scene(d)
 
 
-def test_the_dem_engines_skip_a_bonded_scene_with_the_reason():
-    """Both engines' contact laws are dry: a scene with cohesion is skipped, never run as if dry."""
+def test_the_dry_dem_models_skip_a_bonded_scene_with_the_reason():
+    """LMGC90's and YADE's polyhedra contact laws are dry: a scene with cohesion is skipped there,
+    never run as if dry (YADE's vertex model bonds the joints: test_yade_bonded_joints_...)."""
     from dem_validation.api import run_loaded
     from dem_validation.lmgc import run_loaded_lmgc90
 
     s = load_scene(_glued(2, cohesion=2000.0))
-    for out in (run_loaded(s, {}), run_loaded_lmgc90(s, {})):
+    for out in (run_loaded(s, {}, contact="polyhedra"), run_loaded_lmgc90(s, {})):
         assert out["status"] == "skipped"
         assert "cohesion or tensile strength" in out["reason"]
 
@@ -182,3 +183,19 @@ def test_radenkovic_bound_is_absent_on_dry_joints_and_uninformative_when_frictio
     assert res["lp"]["status"] == "optimal"
     assert res["lower_bound"]["status"] == "infeasible" and res["lower_bound"]["alpha"] is None
     assert "dead load" in res["lower_bound"]["reason"]
+
+
+@pytest.mark.yade
+@pytest.mark.parametrize("dim", [2, 3])
+def test_yade_bonded_joints_reach_the_closed_forms(dim):
+    """YADE's vertex model with bonded joints (dem_validation/job.py ``bonds``: a clamp ft' A and
+    a cohesive share c' A / n on each contact's Coulomb cap) against the closed forms above,
+    within 2 %: the glued block sliding at mu + c A / W = 0.503874, and the tall block with
+    tension and cohesion (ft = 5,000 Pa <= c / mu = 12,500 Pa) overturning at
+    (b / h)(1 + ft A / W) = 0.501937."""
+    from dem_validation.api import run_scene
+
+    res = run_scene(load_scene(_glued(dim, cohesion=2000.0)))
+    assert res["status"] == "collapsed" and res["alpha"] == pytest.approx(0.503874, rel=0.02)
+    res = run_scene(load_scene(_tall(dim, tensile_strength=5000.0, cohesion=10000.0)))
+    assert res["status"] == "collapsed" and res["alpha"] == pytest.approx(0.501937, rel=0.02)
