@@ -309,7 +309,40 @@ def feature_entries() -> list:
                                    "notes": "Crushing has no rigid-block DEM: the dynamic check skips it."})
     crushed["joints"] = [{"between": {"blocks": ["base", "block"]}, "fc": fc}]
     out.append(crushed)
+    out.append(ntc_pier_entry())
     return out
+
+
+def ntc_pier_entry() -> dict:
+    """A masonry pier in its plane with crushing at its base, against the flexural capacity of NTC
+    2018 section 7.8.2.2.1, eq. (7.8.2): Mu = (l^2 t sigma0 / 2)(1 - sigma0 / (0.85 fd)), sigma0 =
+    N / (l t) (the same stress block, fc = 0.85 fd, as limit/model/yield_domain.py's crushing).
+
+    Pier l = 1.2 m, t = 0.3 m, three 1.0 m courses (h = 3.0 m), 1,800 kg/m^3 (W = 19,070.64 N),
+    mu 0.6, fd = 2.0 MPa on every bed joint; a floor load P on its top makes N = 122,400 N at
+    the base, sigma0 = 340 kPa, sigma0 / (0.85 fd) = 0.2 (a node of the chords, where the
+    linearised domain is exact). Mu = 73,440 x 0.8 = 58,752 N m. Live load 10 kN along +x at the
+    top's centre: alpha = Mu / (10 kN x 3.0 m) = 1.9584. The joint above carries 116,043 N and
+    2/3 of the moment (capacity 56,424 N m against 39,168 N m), and the base slides only at mu N
+    = 73,440 N: rocking at the base governs."""
+    fd, l, t, h = 2.0e6, 1.2, 0.3, 3.0
+    W = 1800.0 * 9.81 * l * t * h
+    N = 0.2 * 0.85 * fd * l * t
+    sigma0 = N / (l * t)
+    Mu = l * l * t * sigma0 / 2.0 * (1.0 - sigma0 / (0.85 * fd))
+    d = B.stack(3, dim=2, b=l, h=1.0, mu=0.6, name="pier-crushing-ntc-2d", thickness=t, density=1800.0,
+                dead=[{"type": "self_weight"},
+                      {"type": "point_force", "block": "s2", "force": [0.0, -(N - W)], "point": [l / 2, h]}],
+                live=[{"type": "point_force", "block": "s2", "force": [1.0e4, 0.0], "point": [l / 2, h]}],
+                expected={"alpha": Mu / (1.0e4 * h), "rtol": 1e-6,
+                          "source": "NTC 2018 section 7.8.2.2.1, eq. (7.8.2): Mu = (l^2 t sigma0 / 2)(1 - sigma0 / "
+                                    "(0.85 fd)), with l 1.2 m, t 0.3 m, sigma0 340 kPa, fd 2 MPa"},
+                meta={"title": "A masonry pier in its plane, crushing at its base (NTC 2018 eq. 7.8.2)",
+                      "notes": "The code's in-plane flexural capacity of a pier is the rocking of its base joint "
+                               "with a stress block 0.85 fd at the toe. Crushing has no rigid-block DEM: the "
+                               "dynamic check skips it."})
+    d["joints"] = [{"between": {"blocks": pair}, "fc": 0.85 * fd} for pair in (["base", "s0"], ["s0", "s1"], ["s1", "s2"])]
+    return d
 
 
 def generated_arch_entry() -> dict:

@@ -79,3 +79,17 @@ def test_crushing_with_tension_or_on_point_contacts_is_rejected():
         analyse(load_scene(_block(2, fc=1e5, tensile_strength=100.0)), method="lp")
     with pytest.raises(SceneError, match="paper's interface model only"):
         analyse(load_scene(_block(2, fc=1e5)), method="lp", options=Options(model="vertex"))
+
+
+def test_the_catalog_pier_reaches_the_ntc_flexural_capacity():
+    """scenes/catalog/pier-crushing-ntc-2d.json against NTC 2018 section 7.8.2.2.1, eq. (7.8.2):
+    Mu = (l^2 t sigma0 / 2)(1 - sigma0 / (0.85 fd)). l = 1.2 m, t = 0.3 m, N = 122,400 N at the
+    base (self weight 19,070.64 N plus the floor load), sigma0 = N / (l t) = 340,000 Pa, fd = 2 MPa,
+    0.85 fd = 1.7 MPa: Mu = (1.44 x 0.3 x 340,000 / 2)(1 - 0.2) = 73,440 x 0.8 = 58,752 N m. The
+    10 kN live load at the top (3.0 m) rocks the pier at alpha = 58,752 / 30,000 = 1.9584, in
+    both steps (rocking only: step 2 keeps the LP's point)."""
+    from scenes.catalog import CATALOG_DIR
+
+    res = analyse(load_scene(str(CATALOG_DIR / "pier-crushing-ntc-2d.json")), method="nlp")
+    assert res["lp"]["alpha"] == pytest.approx(1.9584, rel=1e-6)
+    assert res["nlp"]["alpha"] == pytest.approx(1.9584, rel=1e-6)
