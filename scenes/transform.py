@@ -60,6 +60,10 @@ def transform(scene: dict, R=None, t=None, s: float = 1.0, scale_thickness: bool
         for side in ("from", "to"):
             if isinstance(tie.get(side), dict) and "point" in tie[side]:
                 tie[side]["point"] = mapx(tie[side]["point"])
+    for g in out.get("joints", []):
+        plane = (g.get("between") or {}).get("plane")
+        if isinstance(plane, dict) and "point" in plane and "normal" in plane:
+            plane["point"], plane["normal"] = mapx(plane["point"]), rot(plane["normal"])
     if d == 2 and scale_thickness and s != 1.0:
         out["thickness"] = out.get("thickness", 1.0) * s
     if "tolerance" in out:

@@ -75,3 +75,34 @@ def test_zero_cohesion_is_accepted_and_changes_nothing():
     d["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "cohesion": 0, "tensile_strength": 0}]
     assert analyse(load_scene(d), method="lp")["lp"]["alpha"] == pytest.approx(plain, rel=1e-12)
     assert np.isfinite(plain)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_damp_proof_course_by_plane_selects_the_joints_that_lie_in_it(dim):
+    """A plane selection (joints whose corners lie within the tolerance of the plane) on a
+    running-bond wall picks exactly the joints between course 0 and course 1 that the tags
+    selection picks (by construction the bed joint at z = H), and only those; the stack's plane
+    at y = 0.3 gives the tags test's alpha = 0.2 (the blocks above slide on mu 0.2). A plane with
+    no joint in it is rejected, naming it; the plane's point follows the scene's units."""
+    up = [0.0, 1.0] if dim == 2 else [0.0, 0.0, 1.0]
+    at = (lambda z: [0.0, z] if dim == 2 else [0.0, 0.0, z])
+    wall = B.running_bond_wall(courses=3, per_course=3, dim=dim, L=0.4, H=0.175, mu=0.65)
+    by_tags, by_plane = dict(wall), dict(wall)
+    by_tags["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "mu": 0.3}]
+    by_plane["joints"] = [{"between": {"plane": {"point": at(0.175), "normal": up}}, "mu": 0.3}]
+    mu_t, mu_p = (find_interfaces(load_scene(x)).mu for x in (by_tags, by_plane))
+    assert (mu_t == 0.3).sum() >= 3 and np.array_equal(mu_t, mu_p)
+    d = _stack() if dim == 2 else B.stack(3, dim=3, b=0.5, h=0.3, mu=0.6)
+    d["joints"] = [{"between": {"plane": {"point": at(0.3), "normal": up}}, "mu": 0.2}]
+    assert analyse(load_scene(d), method="nlp")["nlp"]["alpha"] == pytest.approx(0.2, rel=1e-6)
+    d["joints"] = [{"between": {"plane": {"point": at(0.45), "normal": up}}, "mu": 0.2}]
+    with pytest.raises(SceneError, match=r"joints\[0\]\.between: selects no joint: no interface lies in the plane"):
+        analyse(load_scene(d), method="lp")
+    from scenes.transform import transform
+
+    mm = dict(transform(by_plane, s=1000.0), units="mm")  # the same wall in millimetres
+    assert np.array_equal(find_interfaces(load_scene(mm)).mu, mu_p)
+    R = np.array([[0.0, -1.0], [1.0, 0.0]]) if dim == 2 else np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0],
+                                                                       [0.0, 0.0, 1.0]])
+    turned = transform(by_plane, R=R, t=[0.3] * dim)  # the plane moves with the wall
+    assert (find_interfaces(load_scene(turned)).mu == 0.3).sum() == (mu_p == 0.3).sum()

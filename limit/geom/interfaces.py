@@ -133,7 +133,7 @@ def find_interfaces(scene) -> Interfaces:
                 mu[k] = scene.friction_pairs[key]
     coh, ten, fc = np.zeros(len(sel)), np.zeros(len(sel)), np.zeros(len(sel))
     for g in scene.joint_groups:  # the scene's "joints" (limit.model.joint_groups), in order, over the pairs
-        hit = g.selects(a[sel], b[sel])
+        hit = g.selects(a[sel], b[sel], [fields["polygons"][k] for k in sel])
         for arr, v in ((mu, g.mu), (coh, g.cohesion), (ten, g.tensile_strength), (fc, g.fc)):
             if v is not None:
                 arr[hit] = v

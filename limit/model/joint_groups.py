@@ -1,7 +1,9 @@
 """Joint groups: the scene's ``joints`` list (docs/formats.md, 'Joint groups'), each entry
-selecting the joints between two blocks (``{"between": {"blocks": [id, id]}}``) or between any
+selecting the joints between two blocks (``{"between": {"blocks": [id, id]}}``), between any
 block with one tag and any block with another (``{"between": {"tags": [tag, tag]}}``, the two
-tags may be the same), and setting their properties.
+tags may be the same), or every joint that lies in a plane (``{"between": {"plane": {"point",
+"normal"}}}``: each corner of the joint within the scene's ``tolerance`` of it, e.g. a damp-proof
+course), and setting their properties.
 
 Precedence: the scene's ``friction`` for every joint, then the ``interfaces.friction`` pairs,
 then the ``joints`` entries in the order of the file, a later entry winning over an earlier
@@ -36,9 +38,16 @@ class JointGroup:
     cohesion: float | None = None
     tensile_strength: float | None = None
     fc: float | None = None
+    #: a plane selection: (point (d,) m, unit normal (d,), tolerance m), or None
+    plane: tuple | None = None
 
-    def selects(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """(m,) bool: the joints between blocks ``a[k]`` and ``b[k]`` that this entry selects."""
+    def selects(self, a: np.ndarray, b: np.ndarray, polygons=None) -> np.ndarray:
+        """(m,) bool: the joints between blocks ``a[k]`` and ``b[k]`` (``polygons[k]`` their
+        corners, (k, d) m, needed by a plane selection) that this entry selects."""
+        if self.plane is not None:
+            p0, n, tol = self.plane
+            return np.array([bool(np.all(np.abs((np.asarray(q, dtype=float) - p0) @ n) <= tol))
+                             for q in (polygons or [])], dtype=bool).reshape(len(a))
         ina = np.isin(a, list(self.side_a))
         inb = np.isin(b, list(self.side_b))
         ina_b = np.isin(a, list(self.side_b))
@@ -46,9 +55,10 @@ class JointGroup:
         return (ina & inb) | (ina_b & inb_a)
 
 
-def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
+def parse_joint_groups(entries: list, ids: dict, blocks: list, dim: int = 3, tolerance: float = 0.0) -> tuple:
     """The ``joints`` entries as :class:`JointGroup` (``ids``: block id -> index); SceneError naming
-    an unknown block or tag, a block paired with itself, or a property that is not modelled."""
+    an unknown block or tag, a block paired with itself, a plane without a point or a nonzero
+    normal of ``dim`` numbers, or a property that is not modelled."""
     out = []
     tags = {}
     for b in blocks:
@@ -62,7 +72,23 @@ def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
                                       and math.isfinite(v) and v >= 0):
                 raise SceneError(f"{where}.{key}: must be a stress >= 0 in Pa, got {v!r}")
         sel = e.get("between") or {}
-        if "blocks" in sel:
+        plane = None
+        if "plane" in sel:
+            pl = sel["plane"] if isinstance(sel["plane"], dict) else {}
+            vec = {}
+            for key in ("point", "normal"):
+                v = pl.get(key)
+                if not (isinstance(v, list) and len(v) == dim and all(
+                        isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v)):
+                    raise SceneError(f"{where}.between.plane.{key}: {dim} finite numbers, got {v!r}")
+                vec[key] = np.asarray(v, dtype=float)
+            norm = float(np.linalg.norm(vec["normal"]))
+            if norm == 0.0:
+                raise SceneError(f"{where}.between.plane.normal: must not be zero")
+            plane = (vec["point"], vec["normal"] / norm, float(tolerance))
+            sa = sb = frozenset()
+            text = f"the plane through {pl['point']} with normal {pl['normal']}"
+        elif "blocks" in sel:
             pair = sel["blocks"]
             for j, x in enumerate(pair):
                 if x not in ids:
@@ -79,9 +105,11 @@ def parse_joint_groups(entries: list, ids: dict, blocks: list) -> tuple:
             sa, sb = frozenset(tags[pair[0]]), frozenset(tags[pair[1]])
             text = f"blocks tagged '{pair[0]}' and '{pair[1]}'"
         else:
-            raise SceneError(f"{where}.between: give \"blocks\": [id, id] or \"tags\": [tag, tag]")
+            raise SceneError(f"{where}.between: give \"blocks\": [id, id], \"tags\": [tag, tag] or "
+                             "\"plane\": {\"point\", \"normal\"}")
         opt = lambda key: None if e.get(key) is None else float(e[key])
-        out.append(JointGroup(where, sa, sb, text, opt("mu"), opt("cohesion"), opt("tensile_strength"), opt("fc")))
+        out.append(JointGroup(where, sa, sb, text, opt("mu"), opt("cohesion"), opt("tensile_strength"), opt("fc"),
+                              plane))
     return tuple(out)
 
 
@@ -89,5 +117,7 @@ def check_selected(scene, I) -> None:
     """SceneError naming the first ``joints`` entry that selects none of the interfaces ``I``."""
     a, b = np.asarray(I.a), np.asarray(I.b)
     for g in scene.joint_groups:
-        if not g.selects(a, b).any():
-            raise SceneError(f"{g.where}.between: selects no joint: no interface between {g.text}")
+        if not g.selects(a, b, I.polygons).any():
+            raise SceneError(f"{g.where}.between: selects no joint: no interface "
+                             + (f"lies in {g.text} (within the tolerance {g.plane[2]:.3g} m)" if g.plane is not None
+                                else f"between {g.text}"))

@@ -395,7 +395,7 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
 
     from limit.model.joint_groups import parse_joint_groups
 
-    joint_groups = parse_joint_groups(data.get("joints", []), ids, blocks)
+    joint_groups = parse_joint_groups(data.get("joints", []), ids, blocks, dim, tolerance)
     from limit.model.ties import parse_ties
 
     ties = parse_ties(data.get("ties", []), ids, blocks, dim, tolerance)

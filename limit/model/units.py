@@ -2,7 +2,7 @@
 downstream reads the scene (docs/formats.md, 'Scene file').
 
 Lengths are the blocks' ``box.center`` and ``box.size``, ``vertices`` and ``parts[*].vertices``,
-the ``point`` of a point force and of a tie's ends, a pressure's ``level``, ``tolerance`` and (2D)
+the ``point`` of a point force, of a tie's ends and of a joint group's plane, a pressure's ``level``, ``tolerance`` and (2D)
 ``thickness``. Everything else keeps its SI unit whatever ``units`` says: gravity (m/s^2), density
 (kg/m^3), forces (N), pressures (Pa) and their gradients (Pa/m), the ``demand``'s ``Z`` and ``H``
 (m, building data of the code check).
@@ -41,6 +41,10 @@ def to_metres(data: dict) -> dict:
                 ld["point"] = _scaled(ld["point"], k)
             if isinstance(ld.get("level"), (int, float)) and not isinstance(ld.get("level"), bool):
                 ld["level"] = ld["level"] * k
+    for g in out.get("joints", []):
+        plane = (g.get("between") or {}).get("plane") if isinstance(g, dict) else None
+        if isinstance(plane, dict) and isinstance(plane.get("point"), list):
+            plane["point"] = _scaled(plane["point"], k)
     for tie in out.get("ties", []):
         for side in ("from", "to"):
             if isinstance(tie.get(side), dict) and isinstance(tie[side].get("point"), list):
