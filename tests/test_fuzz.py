@@ -246,7 +246,9 @@ def _analysed(m: dict, k: int, key: str, counts: dict) -> bool:
 JOINTS_SEED, JOINTS_MUTANTS = 20261129, 60
 JOINT_KEYS = ["mu", "cohesion", "tensile_strength", "fc", "between", "colour"]
 JOINT_VALUES = ODD + [0.2, 0.6, 1.5, 500.0, 2e4, 3e5, {"blocks": ["s0", "s1"]}, {"tags": ["course-0", "course-1"]},
-                      {"tags": ["course-0"]}, {"blocks": ["s0", "s0"]}, {"blocks": ["s0", "nope"]}, {"plane": [0, 1]}]
+                      {"tags": ["course-0"]}, {"blocks": ["s0", "s0"]}, {"blocks": ["s0", "nope"]}, {"plane": [0, 1]},
+                      {"plane": {"point": [0, 0.3], "normal": [0, 1]}}, {"plane": {"point": [0, 0.3], "normal": [0, 0]}},
+                      {"plane": {"point": [0, 0.3], "normal": [1e308, -1e308]}}, {"plane": {"point": [0, "a"]}}]
 
 
 @pytest.mark.slow  # steps 1 and 2 of every mutant that loads (3 blocks each)

@@ -82,10 +82,11 @@ def parse_joint_groups(entries: list, ids: dict, blocks: list, dim: int = 3, tol
                         isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v)):
                     raise SceneError(f"{where}.between.plane.{key}: {dim} finite numbers, got {v!r}")
                 vec[key] = np.asarray(v, dtype=float)
-            norm = float(np.linalg.norm(vec["normal"]))
-            if norm == 0.0:
+            big = float(np.abs(vec["normal"]).max())
+            if big == 0.0:
                 raise SceneError(f"{where}.between.plane.normal: must not be zero")
-            plane = (vec["point"], vec["normal"] / norm, float(tolerance))
+            n = vec["normal"] / big  # no overflow in the norm of a huge normal
+            plane = (vec["point"], n / float(np.linalg.norm(n)), float(tolerance))
             sa = sb = frozenset()
             text = f"the plane through {pl['point']} with normal {pl['normal']}"
         elif "blocks" in sel:
