@@ -51,7 +51,7 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         if out["nlp"].get("status") == "optimal" and out["nlp"].get("alpha") is not None and \
                 out["nlp"]["alpha"] < -verify.TOL_GAP:
             out["nlp"]["status"] = "infeasible"
-    if P.bonded and sol.status == "optimal":  # with cohesion the frictional alpha has a lower bound
+    if P.I.bonded and sol.status == "optimal":  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic
 
         out["lower_bound"] = radenkovic.lower_bound(P, solver)

@@ -146,6 +146,7 @@ def _parser() -> argparse.ArgumentParser:
                          "TAG_A's top course)")
     pd.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
                     help="the analysis that checks each trial (default auto: step 2 where it can change the answer)")
+    pd.add_argument("--dem", action="store_true", help="check the designed scene with YADE's pushover (slow)")
     pd.add_argument("-o", "--output", default=None, metavar="OUT.json", help="write the designed scene here")
     pd.add_argument("--json", default=None, metavar="OUT.json", help="write the design's record here")
     pb = sub.add_parser("build", help="write a scene of a generated structure (arch, wall, vault, dome)")
@@ -266,6 +267,11 @@ def cmd_design(args) -> int:
         f"{t.get('id', '?')} {t['capacity']:.6g} N" for t in out["ties"]) or "none needed"))
     print(f"alpha: LP {res['lp'].get('alpha')}, frictional {alpha} (target {out['target']:.6g}); "
           f"{out['time_s']:.1f} s")
+    from limit.results.summary import format_result
+
+    print("\n".join(format_result(res).splitlines()[1:]))  # the designed scene's mechanism and ties
+    if args.dem:
+        out["dem"] = _design_dem(dict(data, ties=keep + out["ties"]), out["target"])
     if out.get("check"):
         from limit.verdict.local_check import verdict_lines
 
@@ -276,6 +282,18 @@ def cmd_design(args) -> int:
     if args.json:
         jsonio.write_json(args.json, {**{k: v for k, v in out.items() if k != "result"}, "result": public(res)})
     return 0
+
+
+def _design_dem(designed: dict, target: float) -> dict:
+    """YADE's pushover of the designed scene (vertex model), printed against the target."""
+    from dem_validation.api import run_scene
+
+    print("YADE pushover of the designed scene ...", file=sys.stderr, flush=True)
+    dem = run_scene(designed)
+    a = dem.get("alpha")
+    print(f"YADE: {dem['status']}" + (f", collapses at alpha = {a:.6g} ({100 * (a / target - 1):+.2f} % from the "
+                                     f"target {target:.6g})" if a is not None else f" ({dem.get('reason', '')})"))
+    return {k: dem.get(k) for k in ("status", "alpha", "reason", "time_s")}
 
 
 def cmd_sweep(args) -> int:

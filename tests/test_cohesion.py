@@ -176,6 +176,10 @@ def test_radenkovic_bound_is_absent_on_dry_joints_and_uninformative_when_frictio
     dead-load shear W sin 10 = 1,703 N."""
     res = analyse(load_scene(_glued(2)), method="lp")
     assert "lower_bound" not in res
+    tied = _glued(2)  # a tie's capacity is no cohesion: still no bound
+    tied["ties"] = [{"id": "rod", "from": {"block": "block", "point": [0.5, 0.25]},
+                     "to": {"block": "base", "point": [0.5, -0.1]}, "capacity": 100.0}]
+    assert "lower_bound" not in analyse(load_scene(tied), method="lp")
     d = _glued(2, cohesion=100.0)
     g = 9.81
     d["gravity"] = [g * math.sin(math.radians(10)), -g * math.cos(math.radians(10))]

@@ -194,16 +194,21 @@ def test_limit_design_generates_wall_to_wall_candidates(tmp_path):
 
 
 @pytest.mark.yade
-def test_yade_carries_the_target_with_the_designed_facade_tie_and_not_without():
-    """The facade and cross wall above, its tie designed for 0.3 (1,177.2 N by hand): YADE's
-    pushover of the tied scene collapses within 2 % of 0.3; the untied one at the facade's
-    rocking, 1/6, within 2 % (far below the target)."""
+def test_yade_carries_the_target_with_the_designed_facade_tie_and_not_without(tmp_path):
+    """The facade and cross wall above, its tie designed for 0.3 (1,177.2 N by hand) by ``limit
+    design ... --dem``: YADE's pushover of the tied scene collapses within 2 % of 0.3 (printed and
+    in the record); the untied one at the facade's rocking, 1/6, within 2 % (far below the target)."""
     from dem_validation.api import run_scene
-    from limit.tie_candidates import wall_to_wall
 
     d = _facade_with_cross_wall()
-    out = design(d, wall_to_wall(d, "front", "cross", levels=[0.75, 1.25]), 0.3)
-    tied = run_scene(load_scene(dict(d, ties=out["ties"])))
-    assert tied["status"] == "collapsed" and tied["alpha"] == pytest.approx(0.3, rel=0.02)
+    p, rec = tmp_path / "facade.json", tmp_path / "design.json"
+    p.write_text(json.dumps(d))
+    r = subprocess.run([sys.executable, "-m", "limit", "design", str(p), "--target-alpha", "0.3", "--wall-to-wall",
+                        "front", "cross", "--levels", "0.75", "1.25", "--dem", "--json", str(rec)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    dem = json.loads(rec.read_text())["dem"]
+    assert dem["status"] == "collapsed" and dem["alpha"] == pytest.approx(0.3, rel=0.02)
+    assert "YADE: collapsed, collapses at alpha = " in r.stdout
     bare = run_scene(load_scene(d))
     assert bare["status"] == "collapsed" and bare["alpha"] == pytest.approx(1 / 6, rel=0.02)

@@ -95,7 +95,8 @@ class Assembled:
 
     @property
     def bonded(self) -> bool:
-        """True when a joint has cohesion or tensile strength (``kh`` not zero)."""
+        """True when a yield row has a right-hand side (``kh`` not zero): a joint with cohesion or
+        tensile strength, or a tie's capacity. The joints alone: ``I.bonded``."""
         return bool(np.any(self.kh))
 
     @property

@@ -14,7 +14,7 @@ strength is the least the true domain offers over every admissible normal force:
 
 So the bound is step 1's LP on the same blocks with mu' = 0, c' = max(c - mu ft', 0) and ft'.
 A dry joint (c = 0) then slides freely, and a scene held by friction alone has the trivial bound
-0; that is why the bound is computed only where a joint is bonded (:attr:`Assembled.bonded`).
+0; that is why the bound is computed only where a joint is bonded (``Interfaces.bonded``).
 """
 from __future__ import annotations
 
