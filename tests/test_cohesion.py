@@ -70,12 +70,14 @@ def test_tensile_strength_raises_overturning_to_b_over_h_times_1_plus_ftA_over_W
     assert res["lp"]["alpha"] == pytest.approx(0.4, rel=1e-6)
 
 
-def test_a_cohesive_stack_slides_on_its_lowest_joint():
-    """Three 1.0 x 0.3 m blocks, mu 0.6, c = 3,000 Pa on every joint (A = 1 m^2). The joint
-    under block k carries W_k = (3 - k) W, W = 5,886 N, and slides at mu + c A / W_k: 0.7699,
-    0.8548, 1.1097 for k = 0, 1, 2; the blocks above joint k overturn at b / ((3 - k) h) >= 1.11
-    (more with cohesion). The least is the lowest joint: alpha = 0.6 + 3000 / 17658."""
-    d = B.stack(3, dim=2, b=1.0, h=0.3, mu=0.6)
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_cohesive_stack_slides_on_its_lowest_joint(dim):
+    """Three 1.0 x 0.3 m blocks (1.0 m deep in 3D, 1 m thick in 2D), mu 0.6, c = 3,000 Pa on every
+    joint (A = 1 m^2). The joint under block k carries W_k = (3 - k) W, W = 5,886 N, and slides at
+    mu + c A / W_k: 0.7699, 0.8548, 1.1097 for k = 0, 1, 2; the blocks above joint k overturn at
+    b / ((3 - k) h) >= 1.11 (more with cohesion). The least is the lowest joint: alpha = 0.6 +
+    3000 / 17658."""
+    d = B.stack(3, dim=dim, b=1.0, h=0.3, mu=0.6)
     d["joints"] = [{"between": {"tags": [t, u]}, "cohesion": 3000.0}
                    for t, u in (("course-0", "course-1"), ("course-1", "course-2"))]
     d["joints"].append({"between": {"blocks": ["base", "s0"]}, "cohesion": 3000.0})
