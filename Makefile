@@ -6,13 +6,17 @@ JOBS ?=
 export OPENBLAS_NUM_THREADS ?= 1
 export OMP_NUM_THREADS ?= 1
 
-.PHONY: setup test validate bench catalog clean
+.PHONY: setup test test-fast validate bench catalog clean
 
 setup:
 	@bash scripts/bootstrap.sh
 
 test: setup
 	$(PY) -m pytest -q tests
+
+# the fast subset for every change: no DEM engine, no slow test (CONTRIBUTING.md)
+test-fast: setup
+	$(PY) -m pytest -q -m "not yade and not lmgc90 and not slow" tests
 
 validate: setup
 	$(PY) -m reports.validate $(if $(JOBS),--jobs $(JOBS))

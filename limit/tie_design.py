@@ -119,7 +119,7 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
             out.update(status="failed", reason=f"the untied scene has no frictional alpha to raise ({a})",
                        time_s=time.perf_counter() - t0)
             return out
-        # the LP's target raised by the gain the frictional alpha needs (LP_TARGET_RULE)
+        # the LP's target raised by the gain the frictional alpha needs (the module docstring, 3.)
         out["lp_target"] = lp_alpha * target / a
         if progress:
             progress(f"the LP reaches {target:g} untied, step 2 only {a:.6g}: LP target {out['lp_target']:.6g}")
