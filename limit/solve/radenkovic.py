@@ -1,5 +1,6 @@
-"""The lower bound of the frictional collapse multiplier for joints with cohesion (Radenkovic's
-second theorem, as the paper's section 3 states it after Drucker).
+"""The lower bound of the frictional collapse multiplier for joints with cohesion (Baggio and
+Trovalusci, section 3: Drucker reinterpreted through Radenkovic's theorem, after Sacchi and Save
+1968; the joints "perfectly polished and cemented together by cohesion").
 
 The collapse load of a body whose flow rule is not associated is at least the collapse load of
 the standard (associative) body whose yield domain is the plastic potential, inscribed in the true
