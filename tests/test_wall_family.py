@@ -44,3 +44,28 @@ def test_family_member_4_verifies():
     ok, _, why = nlp.check(out["N"], out["z"], sol.alpha)
     assert ok, why
     assert out["alpha"] < sol.alpha * (1 - 1e-3)
+
+
+def test_the_dem_family_meets_every_kind_within_its_size_range():
+    """The DEM cross-check family (``dem_member``): eight members, one per kind, 2D and 3D, each
+    loadable with interfaces found, 15 to 200 free blocks, course heights of 50-60 mm in the
+    small-unit walls and 0.2-0.3 m in the large-unit ones, friction in [0.5, 0.9], no per-scene DEM
+    knobs; rebuilt identically from (seed, index) alone, and a second pass of the kinds draws anew."""
+    from limit.geom.interfaces import find_interfaces
+    from scenes.generators.families import DEM_KINDS, dem_family, dem_member
+
+    fam = dem_family(0)
+    assert [f["meta"]["family"]["kind"] for f in fam] == [k for k, _ in DEM_KINDS]
+    assert {f["dim"] for f in fam} == {2, 3}
+    for sc in fam:
+        m = sc["meta"]["family"]
+        s = load_scene(sc)
+        assert 15 <= len(s.free) <= 200 and len(find_interfaces(s)) >= len(s.free), sc["name"]
+        assert 0.5 <= m["mu"] <= 0.9 and "dem" not in sc["meta"] and "lmgc" not in sc["meta"]
+        if "small-units" in m["kind"]:
+            assert 0.05 <= m["unit"][2] <= 0.06
+        if "large-units" in m["kind"] or "out-of-plane" in m["kind"]:
+            assert 0.2 <= m["unit"][2] <= 0.3
+    assert json.dumps(dem_member(0, 3)) == json.dumps(fam[3])
+    assert dem_member(0, 8)["meta"]["family"]["kind"] == DEM_KINDS[0][0]
+    assert dem_member(0, 8)["meta"]["family"]["unit"] != fam[0]["meta"]["family"]["unit"]
