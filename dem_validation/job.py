@@ -211,15 +211,18 @@ def bonds(scene, interfaces) -> list:
     blocks together at the corners) carries N + P >= 0 and |V| <= mu (N + P) + c' A with c' = c - mu
     ft' (``cohesion``): the same domain (``yade_vertex.VertexModel.apply_bonds``)."""
     out = []
+    from limit.solve.radenkovic import potential_interfaces
+
+    inner = potential_interfaces(interfaces)  # c' and ft', as the lower bound takes them
     for k in np.flatnonzero((interfaces.cohesion > 0) | (interfaces.tensile > 0)):
-        mu, c, ft, A = (float(x[k]) for x in (interfaces.mu, interfaces.cohesion, interfaces.tensile, interfaces.area))
-        ft = min(ft, c / mu) if mu > 0 else ft
+        A = float(interfaces.area[k])
         pts = np.asarray(interfaces.polygons[k], dtype=float)
         if scene.dim == 2:
             pts = np.column_stack([pts, np.full(len(pts), 0.5 * float(scene.thickness))])
         out.append({"a": int(interfaces.a[k]), "b": int(interfaces.b[k]),
                     "normal": np.pad(np.asarray(interfaces.normal[k], dtype=float), (0, 3 - scene.dim)).tolist(),
-                    "points": pts.tolist(), "clamp": ft * A, "cohesion": max(c - mu * ft, 0.0) * A})
+                    "points": pts.tolist(), "clamp": float(inner.tensile[k]) * A,
+                    "cohesion": float(inner.cohesion[k]) * A})
     return out
 
 
