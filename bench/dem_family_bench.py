@@ -16,6 +16,7 @@ import time
 
 import pandas as pd
 
+from dem_validation import engines
 from dem_validation.api import run_scene
 from dem_validation.bracket import judge, limit_analysis
 from limit.model.scene import load_scene
@@ -26,7 +27,7 @@ from .common import machine, out_dir
 SEED = int(os.environ.get("DEM_FAMILY_SEED", 0))
 COUNT = int(os.environ.get("DEM_FAMILY_COUNT", 8))
 TIMEOUT = float(os.environ.get("DEM_FAMILY_TIMEOUT", 1800))
-ENGINES = ("yade", "lmgc90")
+ENGINES = engines.names()
 
 
 def rows(scene_dict: dict) -> list[dict]:

@@ -14,8 +14,8 @@ import math
 import sys
 import time
 
+from . import engines
 from . import params as P
-from .lmgc_main import KNOBS as LMGC_KNOBS
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -28,10 +28,7 @@ def _parser() -> argparse.ArgumentParser:
         f"{c}: " + ",".join(f"{e:g}" for e in d["eps"]) for c, d in P.BY_CONTACT.items()))
     r.add_argument("--contact", choices=("vertex", "polyhedra"), default="vertex",
                    help="block model: vertex spheres against faces (default) or YADE Polyhedra (slower)")
-    r.add_argument("--engine", choices=("yade", "lmgc90"), default="yade",
-                   help="yade: compliant contacts extrapolated to rigid ones (default); lmgc90: rigid contacts "
-                        "(non-smooth contact dynamics; --set takes its knobs: "
-                        + ", ".join(LMGC_KNOBS) + ")")
+    r.add_argument("--engine", choices=engines.names(), default=engines.DEFAULT, help=engines.help_text())
     r.add_argument("--timeout", type=float, default=1800.0, metavar="S", help="wall-clock limit in s (default 1800)")
     r.add_argument("--yade", metavar="PATH", help="YADE executable (default $DEM_YADE or yade on PATH)")
     r.add_argument("--set", action="append", default=[], metavar="KNOB=VALUE",
@@ -86,29 +83,12 @@ def _progress(info):
         print(f"dem: contacts eps={info['eps']:.0e}, dt={info['dt']:.3g} s", file=sys.stderr, flush=True)
 
 
-def _run_text(run: dict) -> str:
-    """One run of the result: its alpha (or what happened instead) and its eps."""
-    if run.get("alpha") is not None:
-        what = f"{run['alpha']:.5g}"
-    elif run.get("dead_load_collapse"):
-        what = "dead-load collapse"
-    else:
-        what = str(run.get("status"))
-    return f"{what} (eps {run['eps']:.2g})"
-
-
 def summary(result: dict) -> str:
     dem = result["dem"]
     lines = [f"{result['scene']}: {result['n_blocks']} blocks ({result['n_free_blocks']} free), "
              f"{result['n_interfaces']} interfaces"]
-    if dem["status"] == "collapsed" and dem.get("alpha") is not None and dem.get("engine") == "lmgc90":
-        lines.append(f"LMGC90 (rigid contacts) collapsed: alpha = {dem['alpha']:.5g} +- {dem['alpha_uncertainty']:.2g}")
-    elif dem["status"] == "collapsed" and dem.get("alpha") is not None:
-        raw = ", ".join(_run_text(r) for r in dem["runs"])
-        how = ("rigid-contact extrapolation of the two stiffest" if dem.get("extrapolation", {}).get("method")
-               == "richardson" else "the stiffest run (no trend with the stiffness) of")
-        lines.append(f"DEM collapsed: alpha = {dem['alpha']:.5g} +- {dem['alpha_uncertainty']:.2g} "
-                     f"({how} runs {raw})")
+    if dem["status"] == "collapsed" and dem.get("alpha") is not None:
+        lines.append(engines.of_result(dem).collapse_line(dem))
     elif dem["status"] == "failed":
         lines.append(f"DEM failed: {dem.get('reason')}")
     else:
@@ -128,13 +108,9 @@ def cmd_run(args) -> int:
     from limit.model.pair_checks import check_friction_pairs
     from limit.model.scene import load_scene
 
-    from .api import run_loaded
-
-    from .lmgc import run_loaded_lmgc90
-    from .lmgc_main import knobs as lmgc_knobs
-
+    eng = engines.get(args.engine)
     try:
-        p = lmgc_knobs(_knobs(args)) if args.engine == "lmgc90" else P.check(_knobs(args), args.contact)
+        p = eng.knobs(_knobs(args), args.contact)
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -142,11 +118,8 @@ def cmd_run(args) -> int:
     I = find_interfaces(scene)
     check_friction_pairs(scene, I)  # an override that applies to no joint: exit 2, as in limit solve
     progress = None if args.quiet else _Progress()
-    if args.engine == "lmgc90":
-        dem = run_loaded_lmgc90(scene, p, timeout_s=args.timeout, progress=progress, interfaces=I)
-    else:
-        dem = run_loaded(scene, p, timeout_s=args.timeout, progress=progress, yade=args.yade, interfaces=I,
-                         contact=args.contact)
+    dem = eng.run(scene, p, timeout_s=args.timeout, progress=progress, executable=args.yade, interfaces=I,
+                  contact=args.contact).to_dict()
     result = {"scene": scene.name, "n_blocks": scene.n_blocks, "n_free_blocks": int(len(scene.free)),
               "n_interfaces": len(I), "dem": dem}
     if args.json:  # first: neither the bracket's limit analysis nor the summary may lose the run

@@ -1,10 +1,10 @@
-"""Host side: run one DEM job (YADE, or LMGC90 through ``lmgc_main.py``) as a
-subprocess and read its result back.
+"""Host side: run one DEM job in its engine's process (:mod:`dem_validation.engines`) and
+read its result back.
 
 Each run gets its own temporary directory (job file, result file, the engine's
 stderr), its own process group, ``-j1`` (one OpenMP thread) and a wall-clock
 limit, so several runs at once do not collide. Every fault ends as a result
-dict with ``"status": "failed"`` and a one-line ``reason``: YADE missing,
+dict with ``"status": "failed"`` and a one-line ``reason``: the engine missing,
 a non-zero exit or a signal, a time-out, a CPU limit or a hang (the whole process
 group is killed), a missing, unreadable or non-finite result file.
 """
@@ -18,21 +18,13 @@ import queue
 import shutil
 import signal
 import subprocess
-import sys
 import tempfile
 import threading
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-SCRIPT = HERE / "yade_main.py"
-#: engine -> its name in messages
-ENGINES = {"yade": "YADE", "lmgc90": "LMGC90"}
-#: the modules that run in the LMGC90 process (numpy, scipy and compas_lmgc90 only)
-LMGC_SIDE = ("lmgc_main.py", "lmgc_model.py")
-#: the modules that run inside YADE (they import each other, never the project's packages);
-#: each run gets copies in its work directory, so YADE sees the same relative paths from any clone
-YADE_SIDE = ("yade_main.py", "pushover.py", "yade_model.py", "yade_polyhedra.py", "yade_vertex.py")
+from . import engines
+
 PROGRESS_TAG = "DEMPROGRESS "
 #: an engine that has used less than HANG_CPU_S of CPU over the last HANG_S seconds of wall clock is
 #: hung (a dead-locked or stopped process; a computing one, even on a crowded machine, uses far
@@ -65,46 +57,10 @@ class _Trail:
         return {"phases": self.phases, "last": list(self.last)}
 
 
-def find_yade(yade: str | None) -> str | None:
-    """Path of the YADE executable: ``yade`` (a name looked up on PATH or a path),
-    else $DEM_YADE, else ``yade`` on PATH; None when there is none."""
-    name = yade or os.environ.get("DEM_YADE") or "yade"
-    if os.sep in name:
-        return name if os.path.isfile(name) and os.access(name, os.X_OK) else None
-    return shutil.which(name)
-
-
-_NO_ASLR: list[str] | None = None
-
-
-def no_aslr_prefix() -> list[str]:
-    """Command prefix that starts YADE with address-space randomization off
-    (``setarch <machine> -R``), or [] where the kernel or a sandbox refuses it.
-
-    YADE builds each Polyhedra's surface with CGAL, and the order of its vertices and
-    the triangulation of coplanar faces follow heap addresses. What shifted them in
-    practice was the process's environment (see yade_env); fixed addresses rule out
-    the rest (a probe run straight from a shell, without yade_env, gave different
-    surfaces with randomized addresses and the same ones without)."""
-    global _NO_ASLR
-    if _NO_ASLR is None:
-        exe = shutil.which("setarch")
-        prefix = [exe, os.uname().machine, "-R"] if exe else []
-        if prefix:
-            try:
-                ok = subprocess.run(prefix + ["true"], stdin=subprocess.DEVNULL, capture_output=True,
-                                    timeout=30).returncode == 0
-            except (OSError, subprocess.TimeoutExpired):
-                ok = False
-            prefix = prefix if ok else []
-        _NO_ASLR = prefix
-    return _NO_ASLR
-
-
-def yade_env(exe: str, work: Path) -> dict:
-    """The YADE process's whole environment, the same from any shell, clone or parent
-    process (with fixed addresses, a longer environment would shift the heap and with it
-    the order CGAL gives the polyhedra's vertices; see no_aslr_prefix): one OpenMP and
+def engine_env(exe: str, work: Path) -> dict:
+    """The engine process's whole environment, the same from any shell, clone or parent
+    process (with fixed addresses, a longer environment would shift YADE's heap and with it
+    the order CGAL gives the polyhedra's vertices; see engines.yade.launch): one OpenMP and
     BLAS thread, a fixed hash seed (the Python side iterates in the same order), no
     display, HOME in the work directory (YADE's config files land there), no byte-code
     files (a run that reads them allocates differently from one that writes them)."""
@@ -149,26 +105,23 @@ def _reader(stream, q):
 
 
 def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = None, progress=None,
-            keep_dir: bool = False, script: Path | None = None, engine: str = "yade",
+            keep_dir: bool = False, script: Path | None = None, engine: str = engines.DEFAULT,
             cpu_limit_s: float | None = None, hang_s: float | None = HANG_S) -> dict:
-    """Run ``job`` (see dem_validation.job) in YADE (``engine="yade"``) or LMGC90
-    (``"lmgc90"``, the job with ``gravity``: :mod:`dem_validation.lmgc_main`); returns
-    the engine side's result dict or a failed one. ``progress(dict)`` receives the
+    """Run ``job`` (see dem_validation.job) in the engine called ``engine``
+    (:func:`dem_validation.engines.get`); returns the engine side's result dict or a failed
+    one. ``yade``: the engine's executable (None: its default); ``script``: an entry script
+    run instead of the engine's own. ``progress(dict)`` receives the
     progress records (alpha, step, ...). ``timeout_s``: wall-clock limit (None: no limit).
     ``cpu_limit_s``: limit of the engine's own CPU seconds (None: no limit), which unlike the
     wall clock does not run out on a machine busy with other work. ``hang_s``: an engine that uses
     less than HANG_CPU_S of CPU in that many seconds is killed as hung (None: never); the
     wall-clock limit is the last guard."""
-    if engine not in ENGINES:
-        raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
-    label = ENGINES[engine]
-    if engine == "yade":
-        exe = find_yade(yade)
-        if exe is None:
-            return failed(f"YADE executable not found ({yade or os.environ.get('DEM_YADE') or 'yade'!r}"
-                          " is not on PATH or not executable)")
-    else:
-        exe = sys.executable
+    eng = engines.get(engine)
+    label = eng.label
+    try:
+        exe = eng.executable(yade)
+    except LookupError as exc:
+        return failed(str(exc))
     if timeout_s is not None and timeout_s <= 0:
         return failed(f"time limit reached before {label} could start")
     work = Path(tempfile.mkdtemp(prefix="dem-"))
@@ -176,16 +129,13 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
     try:
         job = dict(job, result="result.json")
         (work / "job.json").write_text(json.dumps(job))
-        for name in (YADE_SIDE if engine == "yade" else LMGC_SIDE):
-            shutil.copyfile(HERE / name, work / name)
-        entry = Path(script).name if script else (SCRIPT.name if engine == "yade" else LMGC_SIDE[0])
+        for name in eng.side_files:
+            shutil.copyfile(eng.side_dir / name, work / name)
+        entry = Path(script).name if script else eng.entry
         if script:
             shutil.copyfile(script, work / entry)
-        env = yade_env(exe, work)
-        if engine == "yade":
-            cmd = no_aslr_prefix() + [exe, "-n", "-x", "-j1", "-f1", entry, "job.json"]
-        else:
-            cmd = [exe, entry, "job.json"]
+        env = engine_env(exe, work)
+        cmd = eng.command(exe, entry)
         with open(work / "yade.err", "w") as err:
             try:
                 proc = subprocess.Popen(cmd, cwd=work, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
@@ -241,8 +191,7 @@ def run_job(job: dict, *, yade: str | None = None, timeout_s: float | None = Non
         if not _finite(res):
             return failed("non-finite number in the DEM result", time_s=elapsed)
         res["wall_s"] = elapsed
-        if engine == "yade":
-            res["fixed_addresses"] = bool(no_aslr_prefix())
+        res.update(eng.run_facts())
         return res
     finally:
         if keep_dir:

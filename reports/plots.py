@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from limit.model.dims import rigid_velocity  # noqa: E402
+from dem_validation import engines  # noqa: E402
 
 AMPLIFY = 0.08
 COLORS = {"lp": "#4c72b0", "nlp": "#dd8452", "dem": "#55a868", "ref": "black", "global": "#8172b3",
@@ -271,7 +272,7 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
     analysis's mechanism followed at finite displacement, alpha against its work-conjugate
     displacement. False (no figure) when there is nothing to draw."""
     pts = capacity_points(dem or {})
-    rigid = capacity_points(lmgc or {}) if (lmgc or {}).get("engine") == "lmgc90" else {"curves": {}}
+    rigid = capacity_points(lmgc) if lmgc and engines.of_result(lmgc).rigid else {"curves": {}}
     if not pts["curves"] and not rigid["curves"] and not kinematic:
         return False
     dyn = bool(pts["curves"] or rigid["curves"])

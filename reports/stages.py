@@ -16,7 +16,7 @@ A scene steers its DEM stage through ``meta.dem``: ``{"run": false, "reason":
 "timeout_s": s}`` passes pushover knobs (:mod:`dem_validation.params`);
 ``"cpu_limit_s": s`` replaces the stage's limits (:func:`limits`);
 ``meta.lmgc`` does the same for the LMGC90 stage (knobs:
-:data:`dem_validation.lmgc_main.KNOBS`).
+:data:`dem_validation.engines.lmgc90.lmgc_main.KNOBS`).
 """
 from __future__ import annotations
 

@@ -68,12 +68,13 @@ def test_limit_analysis_of_the_bracket_uses_the_cone_in_3d():
 def test_the_dem_command_writes_the_bracket(tmp_path, write_scene, monkeypatch, capsys):
     """The engine is replaced by a stand-in that collapses at 0.2 on a block that rocks at
     b / h = 0.4 (step 2 skipped: rocking): suspect low, in the file and on the screen."""
-    import dem_validation.api
+    from dem_validation import engines
 
     def fake(scene, p, **kw):
-        return {"status": "collapsed", "alpha": 0.2, "alpha_uncertainty": 0.001, "runs": [], "time_s": 1.0,
-                "displacement": {}, "extrapolation": {"method": "richardson"}}
-    monkeypatch.setattr(dem_validation.api, "run_loaded", fake)
+        return engines.DemResult.from_dict(
+            {"status": "collapsed", "alpha": 0.2, "alpha_uncertainty": 0.001, "runs": [], "time_s": 1.0,
+             "displacement": {}, "extrapolation": {"method": "richardson"}})
+    monkeypatch.setattr(engines.get("yade"), "run", fake)
     scene = write_scene(B.single_block(dim=2, b=0.4, h=1.0, t=1.0, mu=0.8))
     out = tmp_path / "dem.json"
     assert dem_validation.cli.main(["run", str(scene), "--json", str(out), "--quiet"]) == 0

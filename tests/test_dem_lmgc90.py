@@ -16,7 +16,7 @@ import math
 import pytest
 
 from dem_validation import run_scene
-from dem_validation.lmgc_main import knobs, search
+from dem_validation.engines.lmgc90.lmgc_main import knobs, search
 from dem_validation.runner import run_job
 from scenes import builders as B
 
@@ -150,7 +150,7 @@ def test_a_run_over_its_time_limit_is_failed():
 def _job(scene):
     """The LMGC90 job of a scene, as run_loaded_lmgc90 builds it."""
     from dem_validation.job import build_job
-    from dem_validation.lmgc_main import knobs as kn
+    from dem_validation.engines.lmgc90.lmgc_main import knobs as kn
     from limit.geom.interfaces import find_interfaces
     from limit.model.loads import dead_and_live
     from limit.model.scene import load_scene

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from dem_validation import params as P
-from dem_validation import pushover
+from dem_validation.engines.yade import pushover
 from dem_validation.api import assemble
 from dem_validation.extrapolate import richardson
 

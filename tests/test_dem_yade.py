@@ -140,7 +140,7 @@ def test_vertex_law_takes_torques_about_the_contact_points(tmp_path):
     script = tmp_path / "law.py"
     script.write_text(
         "import json, os, sys\n"
-        f"sys.path.insert(0, {str(Path(dem_validation.__file__).parent)!r})\n"
+        f"sys.path.insert(0, {str(Path(dem_validation.__file__).parent / 'engines' / 'yade')!r})\n"
         "import yade_vertex\n"
         "job = json.load(open(sys.argv[1]))\n"
         "m = yade_vertex.VertexModel(job, job['params']['eps'][0])\n"

@@ -179,7 +179,7 @@ def test_failure_copy_that_cannot_be_written_does_not_stop_the_run(tmp_path, mon
     df = pd.read_csv(tmp_path / "out" / "results.csv")
     assert list(df.dem_status) == ["failed"] and list(df.lp_status) == ["optimal"]
     # LMGC90 is part of the default run (b/h = 0.3: the block rocks at 0.3)
-    from dem_validation.lmgc_main import knobs
+    from dem_validation.engines.lmgc90.lmgc_main import knobs
 
     assert list(df.lmgc_status) == ["collapsed"] and abs(df.lmgc_alpha[0] / 0.3 - 1) < knobs({})["alpha_rtol"]
 
