@@ -117,7 +117,7 @@ def test_lmgc90_and_yades_polyhedra_skip_a_tied_scene_with_the_reason():
 @pytest.mark.parametrize("dim", [2, 3])
 def test_yade_carries_the_tie_to_the_closed_form(dim):
     """YADE's vertex model with the tie as a spring capped at its capacity (dem_validation/
-    yade_model.py, ``apply_ties``) collapses within 2 % of b/h + 2 C / W (first test), and the
+    engines/yade/yade_model.py, ``apply_ties``) collapses within 2 % of b/h + 2 C / W (first test), and the
     block without its tie within 2 % of b/h = 0.4."""
     from dem_validation.api import run_scene
 

@@ -3,7 +3,7 @@ load factor alpha by load steps and bisection, at one or more contact
 stiffnesses.
 
 Pure Python (no YADE import): it drives any ``model`` with the methods of
-:class:`dem_validation.yade_model.Model` (``set_alpha``, ``set_stiffness``,
+:class:`dem_validation.engines.yade.yade_model.Model` (``set_alpha``, ``set_stiffness``,
 ``step``, ``residual``, ``max_motion``, ``snapshot``, ``restore``,
 ``displacements``, ``control_displacement``; attributes ``alpha``, ``eps``,
 ``dt``, ``kn``, ``length``, ``time_scale``), so the search itself is tested
