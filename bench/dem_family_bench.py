@@ -4,9 +4,10 @@ bracket [step 2, LP] (dem_validation/bracket.py, the engines' friction cone).
 
 Per member and engine: the alpha, its verdict (inside, suspect low, suspect high, unchecked,
 or the run's status), the time. ``$DEM_FAMILY_COUNT`` members (default 8, every kind once) of
-``$DEM_FAMILY_SEED`` (default 0); ``$DEM_FAMILY_TIMEOUT`` s per engine run (default 1800).
+``$DEM_FAMILY_SEED`` (default 0); ``$DEM_FAMILY_TIMEOUT`` s per engine run (default 1800);
+``$DEM_FAMILY_ENGINES`` a comma-separated subset of the engines (default all).
 ``python -m bench.dem_family_bench [INDEX...]`` runs only those members.
-Writes bench/out/dem_family.csv (row by row) and dem_family.md.
+Writes bench/out/dem_family.csv (row by row) and dem_family.md (``dem_family-$DEM_FAMILY_TAG.*`` when the tag is set).
 """
 from __future__ import annotations
 
@@ -27,7 +28,11 @@ from .common import machine, out_dir
 SEED = int(os.environ.get("DEM_FAMILY_SEED", 0))
 COUNT = int(os.environ.get("DEM_FAMILY_COUNT", 8))
 TIMEOUT = float(os.environ.get("DEM_FAMILY_TIMEOUT", 1800))
-ENGINES = engines.names()
+TAG = os.environ.get("DEM_FAMILY_TAG", "")
+STEM = f"dem_family-{TAG}" if TAG else "dem_family"
+ENGINES = tuple(e for e in os.environ.get("DEM_FAMILY_ENGINES", ",".join(engines.names())).split(",") if e)
+for _e in ENGINES:
+    engines.get(_e)  # ValueError naming the known engines
 
 
 def rows(scene_dict: dict) -> list[dict]:
@@ -78,9 +83,9 @@ def main(indices=None) -> pd.DataFrame:
     acc = []
     for sc in members:
         acc += rows(sc)
-        pd.DataFrame(acc).to_csv(out / "dem_family.csv", index=False)  # kept as it grows
+        pd.DataFrame(acc).to_csv(out / f"{STEM}.csv", index=False)  # kept as it grows
     df = pd.DataFrame(acc)
-    (out / "dem_family.md").write_text(table(df))
+    (out / f"{STEM}.md").write_text(table(df))
     return df
 
 
