@@ -2,7 +2,11 @@
 
 Two blocks a, b touch where a face of a and a face of b lie in the same plane
 (on the same line in 2D) with opposite outward normals and overlap with
-positive area (length). Broad phase: :mod:`limit.geom._broadphase`; narrow phase:
+positive area (length). With the scene's ``interfaces.angle_tolerance`` (degrees), faces up to
+that angle from anti-parallel count too, where they lie within the scene's ``tolerance`` of
+each other over all of their overlap (a CAD model's joints, which are seldom exactly plane
+across a curved course); the interface then lies in block a's face plane, midway between the
+two faces. Broad phase: :mod:`limit.geom._broadphase`; narrow phase:
 vectorised face-pair tests and, in 3D, a tolerance-aware convex clipping
 (:mod:`limit.geom._clip`).
 
@@ -32,7 +36,8 @@ import numpy as np
 from limit.geom import _broadphase as broadphase, _clip as clip, _facetable as facetable
 from limit.geom.geometry import plane_basis, polygon_area_centroid
 
-#: Faces count as anti-parallel when n_a . n_b < -(1 - ANGLE_TOL).
+#: Faces count as anti-parallel when n_a . n_b < -(1 - ANGLE_TOL) (about 0.081 degrees), unless the
+#: scene's ``interfaces.angle_tolerance`` is larger.
 ANGLE_TOL = 1e-6
 
 
@@ -105,7 +110,9 @@ def find_interfaces(scene) -> Interfaces:
     keep = ~(fixed[pa] & fixed[pb]) & (owner[pa] != owner[pb])
     pa, pb = pa[keep], pb[keep]
 
-    fa, fb, pair = _facing_faces(ft, pa, pb, tol)
+    angle = getattr(scene, "angle_tolerance", None)
+    one_minus_cos = max(ANGLE_TOL, 1.0 - np.cos(np.radians(angle))) if angle else ANGLE_TOL
+    fa, fb, pair = _facing_faces(ft, pa, pb, tol, one_minus_cos)
     if d == 2:
         res = _contacts_2d(ft, fa, fb, tol, scene.thickness)
     else:
@@ -113,10 +120,22 @@ def find_interfaces(scene) -> Interfaces:
     ok, fields = res
     pair = pair[ok]
     qa, qb = pa[pair], pb[pair]
-    # At most one interface per pair of convex pieces: keep the largest.
+    # At most one interface per pair of convex pieces and plane: keep the largest. (Two convex
+    # pieces touch in one plane, but faces taken within an angle tolerance can meet in two: a
+    # block across a ridge.)
     order = np.lexsort((-fields["area"], qb, qa))
     first = np.ones(len(order), bool)
     first[1:] = (qa[order][1:] != qa[order][:-1]) | (qb[order][1:] != qb[order][:-1])
+    if one_minus_cos > ANGLE_TOL:
+        kept = {}
+        for pos, r in enumerate(order):
+            key = (qa[r], qb[r])
+            nr = fields["normal"][r]
+            if first[pos]:
+                kept[key] = [nr]
+            elif all(nr @ m < 1.0 - ANGLE_TOL for m in kept[key]):
+                first[pos] = True
+                kept[key].append(nr)
     sel = order[first]
     sel = sel[np.lexsort((qb[sel], qa[sel]))]
     a, b = owner[qa], owner[qb]  # pieces are in block order, so a < b
@@ -221,8 +240,12 @@ def _merge_coplanar(a, b, fields, d, tol, thickness):
     return na, nb, merged, np.lexsort((nb, na))
 
 
-def _facing_faces(ft, pa, pb, tol):
-    """Face pairs (fa of block pa, fb of block pb) that are coplanar and anti-parallel."""
+def _facing_faces(ft, pa, pb, tol, one_minus_cos=ANGLE_TOL):
+    """Face pairs (fa of block pa, fb of block pb) that are anti-parallel within ``one_minus_cos``
+    (1 - cos of the angle between -n_a and n_b) and coplanar within ``tol``. A pair that is not
+    anti-parallel within ANGLE_TOL passes where its planes may meet within ``tol`` over the faces
+    (its centres apart by at most tol + sin(angle) x the faces' radii); :func:`_separation` then
+    measures the gap over the overlap."""
     na = ft.ptr[pa + 1] - ft.ptr[pa]
     nb = ft.ptr[pb + 1] - ft.ptr[pb]
     cnt = na * nb
@@ -233,7 +256,27 @@ def _facing_faces(ft, pa, pb, tol):
     dot = np.einsum("ij,ij->i", ft.normal[fa], ft.normal[fb])
     gap = np.einsum("ij,ij->i", ft.normal[fa], ft.point[fb] - ft.point[fa])  # distance between the planes
     ok = (dot < -(1.0 - ANGLE_TOL)) & (np.abs(gap) <= tol)
+    if one_minus_cos > ANGLE_TOL:
+        tilted = (dot < -(1.0 - one_minus_cos)) & ~ok
+        if tilted.any():
+            sin = np.sqrt(np.maximum(0.0, 1.0 - dot[tilted] ** 2))
+            reach = tol + sin * (_radius(ft, fa[tilted]) + _radius(ft, fb[tilted]))
+            ok[np.flatnonzero(tilted)[np.abs(gap[tilted]) <= reach]] = True
     return fa[ok], fb[ok], pair[ok]
+
+
+def _radius(ft, faces) -> np.ndarray:
+    """(m,) the largest distance from each face's centre to its corners."""
+    return np.linalg.norm(ft.verts[faces] - ft.point[faces][:, None, :], axis=2).max(axis=1)
+
+
+def _separation(ft, fa, fb, X, n) -> np.ndarray:
+    """(m, k) the distance along ``n`` (face a's normal) from face a's plane to face b's plane at
+    the points ``X`` (m, k, d): 0 where the faces touch, > 0 across a gap."""
+    nb = ft.normal[fb]
+    ta = ft.offset[fa][:, None] - np.einsum("mkd,md->mk", X, n)
+    tb = (ft.offset[fb][:, None] - np.einsum("mkd,md->mk", X, nb)) / np.einsum("md,md->m", nb, n)[:, None]
+    return tb - ta
 
 
 def _contacts_2d(ft, fa, fb, tol, thickness):
@@ -244,6 +287,12 @@ def _contacts_2d(ft, fa, fb, tol, thickness):
     lo = np.maximum(sa.min(1), sb.min(1))
     hi = np.minimum(sa.max(1), sb.max(1))
     ok = hi - lo > tol
+    tilted = np.einsum("ij,ij->i", n, ft.normal[fb]) >= -(1.0 - ANGLE_TOL)
+    if (ok & tilted).any():  # tilted faces: they must meet within tol at both ends of the overlap
+        r = np.flatnonzero(ok & tilted)
+        p0 = ft.point[fa[r]] - np.einsum("ij,ij->i", ft.point[fa[r]], t[r])[:, None] * t[r]
+        X = np.stack([p0 + lo[r, None] * t[r], p0 + hi[r, None] * t[r]], axis=1)
+        ok[r] = np.abs(_separation(ft, fa[r], fb[r], X, n[r])).max(axis=1) <= tol
     n, t, lo, hi = n[ok], t[ok], lo[ok], hi[ok]
     fa, fb = fa[ok], fb[ok]
     # The contact line: midway between the two (coincident within tol) face lines.
@@ -293,6 +342,11 @@ def _contacts_3d(ft, fa, fb, tol):
         diam[r] = np.linalg.norm(np.ptp(p, axis=0))
     # Positive area and a width (area / diameter) above the tolerance.
     ok = (nv >= 3) & (area / diam > tol)
+    tilted = np.einsum("ij,ij->i", n, ft.normal[fb]) >= -(1.0 - ANGLE_TOL)
+    for r in np.flatnonzero(ok & tilted):  # tilted faces: within tol of each other over the whole overlap
+        p = polys[r]
+        X = (o[r] + p[:, :1] * e1[r] + p[:, 1:2] * e2[r])[None]
+        ok[r] = np.abs(_separation(ft, fa[r:r + 1], fb[r:r + 1], X, n[r:r + 1])).max() <= tol
     idx = np.flatnonzero(ok)
     ok_full = np.zeros(m, bool)
     ok_full[idx] = True

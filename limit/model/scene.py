@@ -93,6 +93,7 @@ class Scene:
     data: dict = field(default_factory=dict)
     path: str | None = None
     sliding_faces: int | None = None   # 3D friction model declared by the scene (interfaces.sliding_faces)
+    angle_tolerance: float | None = None  # degrees: tilted faces that still form a joint (interfaces.angle_tolerance)
     slide_fit: str | None = None
     demand: object = None              # limit.model.seismic_demand.Demand of the file's "demand", or None
     fc: float | None = None            # its confidence factor (demand.fc), or None
@@ -410,6 +411,7 @@ def load_scene(source, check_overlaps: bool = True, strict: bool = False) -> Sce
                   meta=dict(data.get("meta", {})), data=data, path=path,
                   sliding_faces=data.get("interfaces", {}).get("sliding_faces"),
                   slide_fit=data.get("interfaces", {}).get("slide_fit"),
+                  angle_tolerance=data.get("interfaces", {}).get("angle_tolerance"),
                   demand=_demand(data.get("demand")), fc=(data.get("demand") or {}).get("fc"),
                   symmetry=data.get("symmetry", "none"), joint_groups=joint_groups, ties=ties)
     load_checks.check_loads(scene)

@@ -135,6 +135,14 @@ def run(args) -> int:
     # the loader's default (1e-6 of the diagonal), or the planes' residual where corners met more
     # planes than they could lie on, capped at 1e-3 of the median block width
     tolerance = max(1e-6 * diag, min(4 * built.residual * scale, 1e-3 * width_m))
+    # joints whose faces kept different planes (curved courses): the scene takes them as joints
+    # within 1.25 x their measured tilt and separation (the margin covers the corners' moves onto
+    # the planes), never beyond the import's own angle and gap tolerances
+    n_tilted, tilt_deg, tilt_sep = built.tilted
+    interfaces = {}
+    if n_tilted:
+        interfaces["angle_tolerance"] = round(min(1.25 * tilt_deg, args.angle), 6)
+        tolerance = max(tolerance, min(1.25 * tilt_sep, built.tol["gap"]) * scale)
     if args.tolerance is not None:
         tolerance = args.tolerance * scale
     vol = sum(b.volume for b in built.blocks) * scale ** dim * (thickness_m if dim == 2 else 1.0)
@@ -149,6 +157,7 @@ def run(args) -> int:
         "density": args.density,
         "tolerance": tolerance,
         **({"thickness": thickness_m} if dim == 2 else {}),
+        **({"interfaces": interfaces} if interfaces else {}),
         "blocks": blocks,
         "loads": {"dead": [{"type": "self_weight"}],
                   "live": [{"type": "body_force", "direction": [1, 0, 0] if dim == 3 else [1, 0]}]},

@@ -11,7 +11,7 @@ overlap (interpenetration).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -85,6 +85,28 @@ def overlap_measure(fa: Face, fb: Face) -> float:
     return total
 
 
+def tilt_and_separation(fa: Face, fb: Face) -> tuple[float, float | None]:
+    """(angle in degrees between -n_a and n_b, the largest distance along n_a from a's plane to
+    b's plane over the overlap of the two faces' projections on a's plane; None without overlap).
+    3D faces only (2D joints are lines: a tilt there is snapped or is not a joint)."""
+    n, nb = fa.normal, fb.normal
+    cos = float(np.clip(-(n @ nb), -1.0, 1.0))
+    e1 = np.cross(np.eye(3)[np.argmin(np.abs(n))], n)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    B = np.column_stack([e1, e2])
+    worst = None
+    for p in (_ccw(t @ B) for t in fa.tris):
+        for q in (_ccw(t @ B) for t in fb.tris):
+            r = p
+            for i in range(3):
+                r = _clip(r, q[i], q[(i + 1) % 3])
+            if _area(r) > 0:
+                X = r @ B.T + fa.offset * n  # the overlap's corners on a's plane
+                worst = max(worst or 0.0, float(np.abs((fb.offset - X @ nb) / (nb @ n)).max()))
+    return float(np.degrees(np.arccos(cos))), worst
+
+
 def candidate_blocks(lo: np.ndarray, hi: np.ndarray, pad: float) -> list[tuple[int, int]]:
     """Pairs i < j of blocks whose bounding boxes (lo, hi: (n, d)) come within ``pad``."""
     order = np.argsort(lo[:, 0])
@@ -101,11 +123,15 @@ def candidate_blocks(lo: np.ndarray, hi: np.ndarray, pad: float) -> list[tuple[i
 @dataclass
 class Snap:
     """The result of :func:`snap`: per face its new (normal, offset) or None when unmatched;
-    ``pairs`` the matched (face a, face b, signed gap) triples; ``clusters`` lists of faces."""
+    ``pairs`` the matched (face a, face b, signed gap) triples; ``clusters`` lists of faces;
+    ``loose`` the matched pairs left in different clusters (their faces get different planes,
+    a few tenths of a degree apart across a curved course: the scene takes them as joints
+    through ``interfaces.angle_tolerance``)."""
 
     planes: list
     pairs: list
     clusters: list
+    loose: list = field(default_factory=list)
 
 
 def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: float,
@@ -147,15 +173,17 @@ def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: flo
             k = parent[k]
         return k
 
-    kept = []
+    kept, loose = [], []
     for a, b, g in sorted(pairs, key=lambda p: (-abs(float(faces[p[0]].normal @ faces[p[1]].normal)), abs(p[2]))):
         ra, rb = find(a), find(b)
         if ra != rb:
             Na = np.array([faces[k].normal for k in members[ra]])
             Nb = np.array([faces[k].normal for k in members[rb]])
             if np.abs(Na @ Nb.T).min() < cos:
+                loose.append((a, b, g))
                 continue
             if {faces[k].block for k in members[ra]} & {faces[k].block for k in members[rb]}:
+                loose.append((a, b, g))
                 continue  # one face per block in a joint
             parent[rb] = ra
             members[ra] += members.pop(rb)
@@ -174,4 +202,4 @@ def snap(faces: list[Face], block_lo: np.ndarray, block_hi: np.ndarray, gap: flo
         d = 0.5 * (plus.mean() + minus.mean())
         for s, k in zip(side, members):
             planes[k] = (s * n, s * d)
-    return Snap(planes, pairs, clusters)
+    return Snap(planes, pairs, clusters, loose)

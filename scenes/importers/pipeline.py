@@ -74,6 +74,9 @@ class Built:
     warnings: list
     moved: float = 0.0
     times: dict = field(default_factory=dict)
+    #: (count, largest angle in degrees, largest separation in file units) of the joints whose two
+    #: faces kept different planes (3D; see :func:`_tilted`)
+    tilted: tuple = (0, 0.0, 0.0)
 
 
 
@@ -121,6 +124,7 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
     hi = np.array([s.vertices.max(axis=0) for s in solids])
     snapped = gapsmod.snap(faces, lo, hi, gap, opts.angle_deg) if gap > 0 else gapsmod.Snap([None] * len(faces), [], [])
     plane_of = {owner[k]: p for k, p in enumerate(snapped.planes) if p is not None}
+    tilted = _tilted(faces, snapped)
     times["joints_s"], t0 = time.perf_counter() - t0, time.perf_counter()
     warnings = []
     out, worst, moved = [], 0.0, 0.0
@@ -183,7 +187,21 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
     return Built(3, out, {"merge": merge, "gap": gap, "flat": flat, "angle_deg": opts.angle_deg,
                           "vol_tol": opts.vol_tol, "median_width": width},
                  float(max(g.max(), 0.0)), float(max(-g.min(), 0.0)), len(snapped.clusters), worst, warnings, moved,
-                 times)
+                 times, tilted)
+
+
+def _tilted(faces: list, snapped) -> tuple[int, float, float]:
+    """(count, largest angle in degrees, largest separation in file units) of the matched face
+    pairs that ended in different clusters, measured between their snapped planes over their
+    overlap (:func:`gaps.tilt_and_separation`)."""
+    def on_plane(k):
+        f = faces[k]
+        p = snapped.planes[k]
+        return f if p is None else gapsmod.Face(f.block, f.corners, f.tris, np.asarray(p[0]), float(p[1]))
+
+    out = [gapsmod.tilt_and_separation(on_plane(a), on_plane(b)) for a, b, _ in snapped.loose]
+    out = [o for o in out if o[1] is not None]
+    return (len(out), max((o[0] for o in out), default=0.0), max((o[1] for o in out), default=0.0))
 
 
 def _outline(b: RawBlock, merge: float) -> tuple[np.ndarray, list]:

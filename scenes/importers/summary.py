@@ -37,6 +37,8 @@ def record(files, units: str, scale: float, built, mass: float, tolerance: float
                       "volume": built.tol["vol_tol"], "median_block_width_m": built.tol["median_width"] * scale},
         "planarity_residual_m": built.residual * scale,
         "largest_corner_move_m": built.moved * scale,
+        "tilted_joints": {"count": built.tilted[0], "largest_angle_deg": built.tilted[1],
+                          "largest_separation_m": built.tilted[2] * scale},
         "warnings": list(warnings),
         "per_block": per,
     }
@@ -61,6 +63,11 @@ def text(rec: dict, out_path: str) -> str:
         f"joints snapped to their mid-plane: {rec['joints_snapped']}; largest gap closed "
         f"{_len(rec['largest_gap_closed_m'])}, largest overlap closed {_len(rec['largest_overlap_closed_m'])} "
         f"(gap tolerance {_len(rec['tolerance']['gap_m'])}); largest corner move {_len(rec['largest_corner_move_m'])}",
+        *([f"joints whose faces kept different planes: {rec['tilted_joints']['count']} (up to "
+           f"{rec['tilted_joints']['largest_angle_deg']:.3g} deg and "
+           f"{_len(rec['tilted_joints']['largest_separation_m'])} apart; taken as joints through "
+           f"interfaces.angle_tolerance and tolerance {_len(rec['tolerance']['scene_m'])})"]
+          if rec.get("tilted_joints", {}).get("count") else []),
         f"interfaces: {rec['interfaces'] if rec['interfaces'] is not None else 'not counted'}",
         f"mass: {rec['mass_kg']:.6g} kg",
         f"wrote {out_path}",
