@@ -22,6 +22,7 @@ the scene's characteristic length and force.
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -32,6 +33,7 @@ import scipy.sparse as sp
 from limit.model import kinematics, loads, scaling, yield_domain
 from limit.geom.interfaces import Interfaces, find_interfaces
 from limit.model.pair_checks import check_friction_pairs
+from limit.settings import DEFAULT as DEFAULT_SETTINGS, Settings, resolve as resolve_settings
 
 
 @dataclass
@@ -40,11 +42,18 @@ class Options:
     sliding faces per interface (3D; 4 is the paper's; None: the scene's
     ``interfaces.sliding_faces``, else :data:`DEFAULT_SLIDE_FACES`); ``slide_fit``:
     "auto" | "circumscribed" | "inscribed" (see :mod:`limit.model.yield_domain`; with
-    ``n_slide`` None, the scene's ``interfaces.slide_fit`` where it gives one)."""
+    ``n_slide`` None, the scene's ``interfaces.slide_fit`` where it gives one); ``settings``:
+    route thresholds, time budgets and check tolerances (:mod:`limit.settings`), a
+    :class:`limit.settings.Settings` or a mapping of the fields to change from the defaults
+    (ValueError names an unknown field or a wrong type)."""
 
     model: str = "paper"
     n_slide: int | None = None
     slide_fit: str = "auto"
+    settings: Settings = DEFAULT_SETTINGS
+
+    def __post_init__(self):
+        self.settings = resolve_settings(self.settings)
 
 
 #: sliding faces of a 3D interface when neither the options nor the scene say: 24 inscribed
@@ -158,7 +167,7 @@ def assemble(scene, options: Options | None = None, interfaces: Interfaces | Non
     t1 = time.perf_counter()
     B = kinematics.compatibility(scene, I)
     n_slide, fit = friction_model(scene, options)
-    options = Options(options.model, n_slide, yield_domain.resolve_fit(n_slide, fit))
+    options = dataclasses.replace(options, n_slide=n_slide, slide_fit=yield_domain.resolve_fit(n_slide, fit))
     model = yield_domain.build(I, options.model, options.n_slide, options.slide_fit)
     f0, fL = (f.ravel() for f in loads.dead_and_live(scene))
     keep = blocked_mask(scene)
