@@ -14,6 +14,7 @@ import time
 import numpy as np
 import pandas as pd
 
+from limit.settings import DEFAULT
 from limit.solve import lp as lpmod, verify
 from limit.model.assemble import assemble
 from limit.geom.interfaces import find_interfaces
@@ -135,7 +136,7 @@ def summary(df, path):
     m = machine()
     lines = [f"# LP benchmark ({m['cpus']} CPUs, Python {m['python']})", "",
              f"Default solver 'auto': the structured interior point method (limit/solve/ipm.py) from "
-             f"{lpmod.AUTO_IPM_MIN_DOF} block unknowns on, Clarabel (qdldl, tolerances 1e-10) below.", ""]
+             f"{DEFAULT.lp_ipm_min_dof} block unknowns on, Clarabel (qdldl, tolerances 1e-10) below.", ""]
     for dim, n in ((2, 10000), (3, 3000)):
         r = df[(df.dim == dim) & (df.solver == "auto")]
         r = r.iloc[(r.n_blocks - n).abs().argsort()[:1]]

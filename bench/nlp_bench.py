@@ -20,6 +20,7 @@ import scipy.sparse as sp
 from scipy.optimize import LinearConstraint, NonlinearConstraint, minimize
 
 from limit import step2
+from limit.settings import DEFAULT
 from limit.solve import milp, nlp, nlp_starts
 from limit.analysis import solve_lp
 from limit.model.assemble import assemble
@@ -125,7 +126,7 @@ def trust_constr_part():
         for label, fn in (("trust-constr", lambda: solve_trust_constr(N, z0)),
                           ("slsqp", lambda: nlp.solve_slsqp(N, z0)),
                           ("sla", lambda: nlp.solve_sla(N, z0, "highs"))):
-            if label == "slsqp" and N.n > nlp.SLSQP_MAX_VARS:
+            if label == "slsqp" and N.n > DEFAULT.slsqp_max_vars:
                 continue
             t0 = time.perf_counter()
             z, msg = fn()

@@ -17,6 +17,7 @@ import time
 import pandas as pd
 
 from limit import step2
+from limit.settings import DEFAULT
 from limit.solve import nlp, step2_large
 from limit.analysis import solve_lp
 from limit.model.assemble import assemble
@@ -66,12 +67,12 @@ def one(n, dim) -> dict:
 
 def auto_alpha(row: dict, n_free: int) -> float | None:
     """The alpha ``limit solve --method auto`` keeps from the two routes measured in ``row``: from
-    step2.LARGE_MIN_FREE free blocks on the large route's; below, the lower verified one
-    (step2.ALSO_ITERATIVE, step2.prefer_large)."""
+    the setting large_min_free free blocks on the large route's; below, the lower verified one
+    (the settings also_iterative and lower_by, step2.prefer_large), at the default settings."""
     big, today = row.get("alpha"), row.get("today_alpha")
-    if n_free >= step2.LARGE_MIN_FREE or today is None:
+    if n_free >= DEFAULT.large_min_free or today is None:
         return big
-    return big if step2.ALSO_ITERATIVE and step2.prefer_large(today, big) else today
+    return big if DEFAULT.also_iterative and step2.prefer_large(today, big, DEFAULT.lower_by) else today
 
 
 def main(sizes_2d=SIZES_2D, sizes_3d=SIZES_3D) -> pd.DataFrame:
@@ -89,7 +90,7 @@ def main(sizes_2d=SIZES_2D, sizes_3d=SIZES_3D) -> pd.DataFrame:
              "Walls in running bond, mu 0.9. 'route' is the lowest verified alpha over the starts (each one a "
              "frictional collapse state, an upper bound of the global minimum); 'today' is the successive LP "
              "with its restarts (120 s budget), run up to 300 blocks. 'auto' is what `--method auto` keeps: "
-             f"below {step2.LARGE_MIN_FREE} free blocks the lower of the two (never above 'today'), from there "
+             f"below {DEFAULT.large_min_free} free blocks the lower of the two (never above 'today'), from there "
              "the route's.", "",
              "| dim | blocks | LP alpha | route alpha | worst start | verified starts | time s | LP s | "
              "today alpha | today s | auto alpha |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]

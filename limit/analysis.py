@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import time
 
-from limit import step2
-from limit.solve import lp as lpmod, verify
+from limit import settings, step2
+from limit.solve import lp as lpmod
 from limit.model.assemble import Options, assemble
 from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
 from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
@@ -49,7 +49,7 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     if method != "lp":
         out["nlp"] = step2.step2(P, sol, method=method, **(nlp_options or {}))
         if out["nlp"].get("status") == "optimal" and out["nlp"].get("alpha") is not None and \
-                out["nlp"]["alpha"] < -verify.TOL_GAP:
+                out["nlp"]["alpha"] < -settings.of(P).tol_gap:
             out["nlp"]["status"] = "infeasible"
     if P.I.bonded and sol.status == "optimal":  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic

@@ -1,55 +1,56 @@
 """Step 2's policy: which route runs (the successive LP of :mod:`limit.solve.nlp` with its
 restarts, or the large-scale route of :mod:`limit.solve.step2_large`), the independent checks
 (global MILP, iterative LP) and the ``nlp`` part of the result file (docs/formats.md,
-'Result file'). The algorithms themselves are in :mod:`limit.solve.nlp`."""
+'Result file'). The algorithms themselves are in :mod:`limit.solve.nlp`. The size thresholds,
+budgets and margins are settings (:mod:`limit.settings`), read from the problem's options."""
 from __future__ import annotations
 
 import time
 
 import numpy as np
 
+from limit import settings
 from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
 from limit.results.result_parts import interfaces_part, ties_line, ties_part
 
 
 ALL_STRATEGIES = ("penalty", "random", "friction", "coarse")
-
-
-#: default wall-clock budget of step 2 (s): restarts are not begun past it, and a run that
-#: is still going stops there (its point is polished and checked like any other)
-TIME_BUDGET = 120.0
-#: without a verified point the plan goes on up to this many budgets, then stops for good
-HARD_FACTOR = 5.0
+#: a budget or time limit given as this is the setting's (nlp_time_budget, global_time_limit)
+FROM_SETTINGS = "settings"
 
 
 def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto", seed: int = 0,
-        restarts: bool = True, strategies=ALL_STRATEGIES, time_budget: float | None = TIME_BUDGET,
+        restarts: bool = True, strategies=ALL_STRATEGIES, time_budget: float | None | str = FROM_SETTINGS,
         verified_elsewhere: bool = False) -> dict:
     """Solve step 2 from the given start; returns the raw outcome (not yet the result part).
 
-    From the LP start the primary solver (SLSQP for small problems, SLA otherwise)
-    runs first. With ``restarts`` the SLA also runs from the same start with
+    From the LP start the primary solver (SLSQP up to the setting ``slsqp_max_vars`` unknowns,
+    SLA otherwise) runs first. With ``restarts`` the SLA also runs from the same start with
     initial penalties 1, 0.1 and 0.01 (a low penalty lets it wander further before
     complementarity is enforced), a few times with random positive costs on the
-    multipliers (nlp_starts.RANDOM_RESTARTS; seeded, reproducible), and from the associative
+    multipliers (nlp_starts.RANDOM_RESTARTS, by ``many_restarts_max_vars``; seeded, reproducible), and from the associative
     LPs at reduced friction (:func:`limit.solve.nlp_starts.reduced_friction_starts`). The problem is
     non-convex: each run ends at a local solution; the lowest alpha that passes
     the independent check is kept and every run is listed. ``time_budget`` (s, None:
-    none): once it is spent and a verified point is in hand, the run in progress
-    stops and the runs left are listed as not begun; without a verified point the
-    plan goes on up to HARD_FACTOR budgets (a result that fails then says so).
+    none, "settings": ``nlp_time_budget``): once it is spent and a verified point is in hand,
+    the run in progress stops and the runs left are listed as not begun; without a verified
+    point the plan goes on up to ``hard_factor`` budgets (a result that fails then says so).
+    The LPs are HiGHS's up to ``highs_max_vars`` unknowns, else Clarabel's (``backend`` "auto").
     ``verified_elsewhere``: another route has a verified point already, so this one stops at the
     budget as if it had one itself.
     """
     t0 = time.perf_counter()
+    st = settings.of(P)
+    if time_budget == FROM_SETTINGS:
+        time_budget = st.nlp_time_budget
     deadline = None if time_budget is None else t0 + time_budget
-    hard = None if time_budget is None else t0 + HARD_FACTOR * time_budget
+    hard = None if time_budget is None else t0 + st.hard_factor * time_budget
     N = build(P)
     if backend == "auto":
-        backend = "highs" if N.n <= 3000 else "clarabel"
+        backend = "highs" if N.n <= st.highs_max_vars else "clarabel"
     if solver == "auto":
-        solver = "slsqp" if N.n <= nlp.SLSQP_MAX_VARS else "sla"
+        solver = "slsqp" if N.n <= st.slsqp_max_vars else "sla"
     rng = np.random.default_rng(seed)
     if start == "lp":
         z0, why = nlp.phase1(N, nlp_starts.lp_start(N, lp_sol), backend)
@@ -64,7 +65,7 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     if "penalty" in strategies:
         plan += [(label, z0, "sla", r, None) for r in (1.0, 0.1, 0.01) if (solver, 1.0) != ("sla", r)]
     if "random" in strategies:
-        n_random = nlp_starts.RANDOM_RESTARTS[0] if N.n <= 5000 else nlp_starts.RANDOM_RESTARTS[1]
+        n_random = nlp_starts.RANDOM_RESTARTS[0 if N.n <= st.many_restarts_max_vars else 1]
         s0 = np.maximum(N.slack(z0), 0.0)
         scale = float(s0.mean()) if s0.size and s0.mean() > 0 else 1.0
         for _ in range(n_random):
@@ -93,7 +94,7 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
         t1 = time.perf_counter()
         have = verified_elsewhere or (best is not None and best[1])  # a verified point in hand
         if deadline is not None and best is not None and (have and t1 > deadline or t1 > hard):
-            spent = time_budget if have else HARD_FACTOR * time_budget
+            spent = time_budget if have else st.hard_factor * time_budget
             runs.append({"start": lab, "solver": name, "not_run": len(plan) - k,
                          "reason": f"time budget of {spent:g} s spent: {len(plan) - k} run(s) not begun"})
             break
@@ -138,7 +139,7 @@ def _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs) -> list:
         runs.append({"start": label, "solver": "coarse", "verified": False,
                      "reason": f"the LP with {n_c} sliding faces is {lp_c.status}"})
         return []
-    budget = None if hard is None else max(hard - time.perf_counter(), 1.0) / HARD_FACTOR
+    budget = None if hard is None else max(hard - time.perf_counter(), 1.0) / settings.of(P).hard_factor
     out = run(Pc, lp_c, solver="auto", backend="auto", seed=seed,  # chosen by the coarse model's size
               strategies=tuple(s for s in strategies if s != "coarse"), time_budget=budget)
     entry = {"start": label, "solver": "coarse", "alpha": out.get("alpha"), "verified": out["ok"],
@@ -153,13 +154,9 @@ def _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs) -> list:
     return [(label, z0, "sla", r, None) for r in (1.0, 0.1, 0.01)]
 
 
-#: the mixed-integer global check runs for scenes up to this many free blocks
-GLOBAL_MAX_BLOCKS = 30
-
-
 def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = "auto",
           arbitrary: bool = False, global_check: bool = False, iterative: bool = False,
-          global_time_limit: float = 120.0, time_budget: float | None = TIME_BUDGET,
+          global_time_limit: float | str = FROM_SETTINGS, time_budget: float | None | str = FROM_SETTINGS,
           dem_state: dict | None = None) -> dict:
     """The ``nlp`` part of the result file (docs/formats.md, 'Result file').
 
@@ -167,17 +164,24 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     (:func:`limit.solve.nlp.needs_nlp`) and the LP's point passes the frictional check
     (:func:`limit.solve.nlp.check`, its residuals under "verification"): that point is then a
     frictional collapse state and is the answer. "nlp" always runs it.
-    ``solver`` "auto": the large-scale route (:mod:`limit.solve.step2_large`) from LARGE_MIN_FREE
-    free blocks on or where the LP is unbounded; below, the large route and then the successive LP
-    (:func:`run`); the large route's verified alpha is kept where lower (:data:`ALSO_ITERATIVE`).
+    ``solver`` "auto": the large-scale route (:mod:`limit.solve.step2_large`) from the setting
+    ``large_min_free`` free blocks on or where the LP is unbounded; below, the large route (with
+    ``also_iterative``) and then the successive LP (:func:`run`); the large route's verified alpha
+    is kept where lower (:func:`prefer_large`).
     ``arbitrary`` also runs plain SQP from an arbitrary start and records that alpha (paper Fig. 4).
     ``global_check`` adds the mixed-integer global minimum (:mod:`limit.solve.milp`) for scenes of up
-    to GLOBAL_MAX_BLOCKS free blocks; ``iterative`` the iterative LP of Gilbert et al.
+    to ``global_max_blocks`` free blocks, within ``global_time_limit`` s ("settings": the
+    setting's); ``iterative`` the iterative LP of Gilbert et al.
     (:mod:`limit.solve.iterative_lp`). ``time_budget``: see :func:`run`. ``dem_state``
     ({"displacement": {block id: motion}, "source": "yade"|...}): a dynamic run's collapse state,
     tried as a start by :func:`adopt_dem_state` after the rest.
     """
     t0 = time.perf_counter()
+    st = settings.of(P)
+    if time_budget == FROM_SETTINGS:
+        time_budget = st.nlp_time_budget
+    if global_time_limit == FROM_SETTINGS:
+        global_time_limit = st.global_time_limit
     if lp_sol.status not in ("optimal", "unbounded"):
         status = "infeasible" if lp_sol.status == "infeasible" else "skipped"
         return {"status": status, "alpha": None, "time_s": 0.0,
@@ -187,7 +191,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         need, why = True, "the LP has no mechanism (sliding needs dilatancy): step 2 starts from the dead load"
     else:
         need, why = nlp.needs_nlp(P, lp_sol)
-    large = lp_sol.status == "unbounded" or (solver == "auto" and n_free >= LARGE_MIN_FREE)
+    large = lp_sol.status == "unbounded" or (solver == "auto" and n_free >= st.large_min_free)
     checked = None
     if method == "auto" and not need:  # the LP's point, checked as a frictional collapse state
         N = build(P)
@@ -206,11 +210,11 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     if large:
         out = _large(P, lp_sol, time_budget)
     else:  # the large route first: with its point verified, the successive LP keeps to the budget
-        alt = _large(P, lp_sol, time_budget) if solver == "auto" and ALSO_ITERATIVE else None
+        alt = _large(P, lp_sol, time_budget) if solver == "auto" and st.also_iterative else None
         out = run(P, lp_sol, solver=solver, start="lp", backend=backend, time_budget=time_budget,
                   verified_elsewhere=alt is not None and alt["ok"])
         if alt is not None:
-            if prefer_large(out["alpha"] if out["ok"] else None, alt["alpha"] if alt["ok"] else None):
+            if prefer_large(out["alpha"] if out["ok"] else None, alt["alpha"] if alt["ok"] else None, st.lower_by):
                 large, out = True, {**alt, "runs": out.get("runs", []) + alt["runs"]}
             else:
                 out = {**out, "runs": out.get("runs", []) + alt["runs"]}
@@ -246,7 +250,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
 def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
     """Step 2 from a dynamic run's collapse state (:func:`limit.solve.dem_start.solve`), recorded as
     ``part["dem_start"]``; its verified point becomes the answer, in place, where it is lower than
-    the part's alpha by more than LOWER_BY (or the part has none). ``part["alpha_step2"]`` keeps
+    the part's alpha by more than the setting ``lower_by`` (or the part has none). ``part["alpha_step2"]`` keeps
     the alpha it replaces. Returns the ``dem_start`` entry."""
     from limit.solve import dem_start
 
@@ -259,7 +263,7 @@ def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
     if dem_state.get("alpha") is not None:
         entry["dem_alpha"] = dem_state["alpha"]
     part["dem_start"] = entry
-    if r["status"] != "optimal" or not lower(r["alpha"], own):
+    if r["status"] != "optimal" or not lower(r["alpha"], own, settings.of(P).lower_by):
         if r["status"] == "optimal":
             entry["reason"] = f"verified, not below step 2's {own:.6g}"
         return entry
@@ -275,34 +279,23 @@ def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
     return entry
 
 
-#: free blocks from which ``solver="auto"`` takes the large-scale route (:mod:`limit.solve.step2_large`):
-#: below it the successive LP's many starts found lower alphas (68-126-block walls: 3-4 % lower,
-#: in 8-42 s); at 300 blocks it stops at its time budget with a local point
-LARGE_MIN_FREE = 200
-#: below LARGE_MIN_FREE, ``solver="auto"`` runs the large-scale route too, before the successive LP
-#: (which, when the large route has verified, stops at TIME_BUDGET instead of HARD_FACTOR budgets;
-#: docs/performance.md, 'The wall family'), and keeps its verified alpha when that is lower by more than LOWER_BY
-#: (relative): on the
-#: 70-stone Fig. 3 wall the successive LP kept the LP's own point, 0.570752, where the iterative
-#: LP from 0.5 mu verified 0.520808 (YADE 0.4995; LMGC90 0.5123 searching from 0.5708, 0.5039 from
-#: 0.5208)
-ALSO_ITERATIVE = True
-LOWER_BY = 1e-9
+def prefer_large(alpha_successive: float | None, alpha_large: float | None,
+                 by: float = settings.DEFAULT.lower_by) -> bool:
+    """Whether solver "auto" below the setting ``large_min_free`` (with ``also_iterative``) keeps
+    the large route's verified alpha over the successive LP's (None: that route did not verify):
+    only when lower by more than ``by`` (relative; the setting ``lower_by``), or when the
+    successive LP failed. On the 70-stone Fig. 3 wall the successive LP kept the LP's own point,
+    0.570752, where the iterative LP from 0.5 mu verified 0.520808 (YADE 0.4995; LMGC90 0.5123
+    searching from 0.5708, 0.5039 from 0.5208)."""
+    return lower(alpha_large, alpha_successive, by)
 
 
-def prefer_large(alpha_successive: float | None, alpha_large: float | None) -> bool:
-    """Whether solver "auto" below LARGE_MIN_FREE keeps the large route's verified alpha over the
-    successive LP's (None: that route did not verify): only when lower by more than LOWER_BY
-    (relative), or when the successive LP failed."""
-    return lower(alpha_large, alpha_successive)
-
-
-def lower(candidate: float | None, current: float | None) -> bool:
+def lower(candidate: float | None, current: float | None, by: float = settings.DEFAULT.lower_by) -> bool:
     """Whether a verified ``candidate`` alpha replaces the ``current`` one (None: none): it exists
-    and is lower by more than LOWER_BY (relative), or there is no current one."""
+    and is lower by more than ``by`` (relative; the setting ``lower_by``), or there is no current one."""
     if candidate is None:
         return False
-    return current is None or candidate < current - LOWER_BY * abs(current)
+    return current is None or candidate < current - by * abs(current)
 
 
 def _large(P, lp_sol, time_budget) -> dict:
@@ -329,16 +322,16 @@ def _point_part(P, N, z) -> dict:
 
 def _adopt_global(P, lp_sol, part, g, entry) -> None:
     """Make the MILP's point step 2's answer, in place, where it is lower than step 2's alpha by
-    more than LOWER_BY (relative; or step 2 has none) and passes the same independent check
+    more than the setting ``lower_by`` (relative; or step 2 has none) and passes the same independent check
     (:func:`limit.solve.nlp.finish`: the piece-LP polish, then :func:`limit.solve.nlp.check`).
     A MILP point is a frictional collapse state like step 2's; an incumbent at the time limit
     (no proof) counts too. ``part["alpha_step2"]`` keeps the local search's alpha."""
-    a, own = g.get("alpha"), part.get("alpha")
-    if g.get("z") is None or not lower(a, own):
+    a, own, by = g.get("alpha"), part.get("alpha"), settings.of(P).lower_by
+    if g.get("z") is None or not lower(a, own, by):
         return
     N = build(P)
     z, ok, res, why, note = nlp.finish(N, g["z"], lp_sol.alpha, "highs")
-    if not ok or not lower(float(z[N.ia]), own):
+    if not ok or not lower(float(z[N.ia]), own, by):
         entry["adopted"] = False
         entry["reason"] = "; ".join(t for t in (entry.get("reason"), f"its point fails the check: {why}" if not ok
                                                 else "below step 2's alpha only before the polish") if t)
@@ -355,10 +348,10 @@ def _adopt_global(P, lp_sol, part, g, entry) -> None:
 def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit):
     """Add the independent routes (global MILP, iterative LP) to a result part, in place. A MILP
     point below step 2's alpha that passes the check becomes the answer (:func:`_adopt_global`)."""
-    n_free = P.n_dof // P.scene.ndof
+    n_free, most = P.n_dof // P.scene.ndof, settings.of(P).global_max_blocks
     if global_check:
-        if n_free > GLOBAL_MAX_BLOCKS:
-            part["global"] = {"status": "skipped", "reason": f"{n_free} free blocks > {GLOBAL_MAX_BLOCKS}"}
+        if n_free > most:
+            part["global"] = {"status": "skipped", "reason": f"{n_free} free blocks > {most}"}
         elif alpha_ub is None:  # the LP unbounded and step 2 without a point: no bound for the MILP
             part["global"] = {"status": "skipped", "reason": "no known alpha to bound the MILP"}
         else:

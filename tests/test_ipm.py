@@ -99,10 +99,12 @@ def test_no_mechanism_fails_then_clarabel_answers():
 
 
 def test_auto_picks_by_size():
+    from limit.settings import DEFAULT
+
     small = assemble(load_scene(B.single_block(dim=2)))
     assert lpmod.resolve("auto", small) == "clarabel"
     big = assemble(load_scene(B.running_bond_wall(32, 32, dim=2)))
-    assert big.n_dof >= lpmod.AUTO_IPM_MIN_DOF
+    assert big.n_dof >= DEFAULT.lp_ipm_min_dof
     assert lpmod.resolve("auto", big) == "ipm"
     assert lpmod.resolve("ecos", big) == "ecos"
     with pytest.raises(ValueError, match="unknown solver"):

@@ -8,6 +8,7 @@ Closed forms used (derivations in scenes/builders.py):
   * a slender block pushing a squat one: frictional 23/61 at mu = 0.5 (side_by_side_alpha).
 The mixed-integer LP (limit/solve/milp.py) is the independent global reference on a small wall.
 """
+import dataclasses
 import json
 import subprocess
 import sys
@@ -15,6 +16,7 @@ import sys
 import pytest
 
 from limit import step2
+from limit.settings import DEFAULT
 from limit.solve import nlp, step2_large
 from limit.analysis import analyse, solve_lp
 from limit.model.assemble import assemble
@@ -26,6 +28,11 @@ def _solved(data):
     P = assemble(load_scene(data))
     sol, _, _ = solve_lp(P)
     return P, sol
+
+
+def _set(monkeypatch, P, **changes):
+    """P's settings (limit.settings) with ``changes``, for this test only."""
+    monkeypatch.setattr(P, "options", dataclasses.replace(P.options, settings=P.options.settings.replace(changes)))
 
 
 @pytest.mark.parametrize("b,h,mu", [(0.4, 1.0, 0.5), (0.3, 1.2, 0.6)])
@@ -146,13 +153,13 @@ def test_a_snap_past_its_deadline_fails_and_gives_no_point(backend):
 
 
 def test_large_walls_run_one_round_of_starts(monkeypatch):
-    """From ONE_ROUND_MIN_FREE free blocks on only as many starts as workers (the first
+    """From one_round_min_free free blocks on only as many starts as workers (the first
     friction factors); below it every factor's start, each listed with its label."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
-    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 5)
+    _set(monkeypatch, P, one_round_min_free=5)
     out = step2_large.solve(P, sol, workers=1)
     assert [r["start"] for r in out["starts"]] == ["lp"] and out["starts"][0]["iterations"] > 0
-    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 10 ** 6)
+    _set(monkeypatch, P, one_round_min_free=10 ** 6)
     out = step2_large.solve(P, sol, workers=1)
     assert [r["start"] for r in out["starts"]] == ["lp", "lp-mu*0.5", "lp-mu*0.25"] and out["ok"]
 
@@ -173,23 +180,23 @@ def test_a_3d_wall_whose_lp_stalls_near_its_optimum_still_verifies(monkeypatch):
 
 
 def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
-    """In 3D, from ONE_ROUND_MIN_FREE free blocks on, the one round's starts are the LPs at 0.5 mu
+    """In 3D, from one_round_min_free free blocks on, the one round's starts are the LPs at 0.5 mu
     and 0.25 mu (START_FACTORS_ONE_ROUND_3D: the associative LP's own start measured slowest
     and not lowest there); 2D keeps the LP's own start first."""
     seen = []
     monkeypatch.setattr(step2_large, "_run_parallel", lambda P, lp_sol, plan, *a, **k: seen.append(
         [lab for lab, _ in plan]) or [step2_large._not_run("spied")] * len(plan))
-    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 5)
     for dim in (3, 2):
         P, sol = _solved(B.running_bond_wall(3, 3, dim=dim, mu=0.9))
+        _set(monkeypatch, P, one_round_min_free=5)
         step2_large.solve(P, sol, workers=2)
     assert seen == [["lp-mu*0.5", "lp-mu*0.25"], ["lp", "lp-mu*0.5"]]
 
 
 def test_large_scenes_take_the_large_route(monkeypatch):
-    """solver='auto' picks the route by size (LARGE_MIN_FREE free blocks)."""
-    monkeypatch.setattr(step2, "LARGE_MIN_FREE", 5)
+    """solver='auto' picks the route by size (the setting large_min_free, free blocks)."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    _set(monkeypatch, P, large_min_free=5)
     part = step2.step2(P, sol, method="nlp")
     assert part["route"] == "iterative-lp" and part["n_starts"] == 3 and part["status"] == "optimal"
     assert part["alpha_best"] <= part["alpha_worst"]
@@ -206,7 +213,7 @@ def test_starts_in_parallel_give_what_they_give_one_after_another():
 
 @pytest.mark.parametrize("dim,warm", [(2, True), (3, False)])
 def test_large_walls_warm_start_their_lps_in_2d_only(monkeypatch, dim, warm):
-    """From ONE_ROUND_MIN_FREE free blocks on (lowered here to 1), each LP of a 2D start begins
+    """From one_round_min_free free blocks on (lowered here to 1), each LP of a 2D start begins
     at the last LP's point; in 3D it does not (measured worse there, WARM_START_DIMS)."""
     from limit.solve import iterative_lp
 
@@ -217,9 +224,9 @@ def test_large_walls_warm_start_their_lps_in_2d_only(monkeypatch, dim, warm):
         seen.append(kw.get("warm_start"))
         return orig(*a, **kw)
 
-    monkeypatch.setattr(step2_large, "ONE_ROUND_MIN_FREE", 1)
     monkeypatch.setattr(iterative_lp, "solve", spy)
     P, sol = _solved(B.running_bond_wall(3, 3, dim=dim, mu=0.9))
+    _set(monkeypatch, P, one_round_min_free=1)
     (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
     step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
     assert seen == [warm]
@@ -227,7 +234,7 @@ def test_large_walls_warm_start_their_lps_in_2d_only(monkeypatch, dim, warm):
 
 def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
     """The route on the 3-course wall of test_small_wall_agrees_with_the_global_minimum with
-    step2_large's ``threshold`` forced down to 1 block, recording the ``kwarg`` of each call of
+    the setting ``threshold`` forced down to 1 block, recording the ``kwarg`` of each call of
     ``module.func``. Every verified start is a collapse state, so never below the MILP's global
     minimum, and the best one reaches it. Returns (the recorded values, the route's result)."""
     from limit.solve import milp
@@ -236,7 +243,7 @@ def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
     seen = []
     real = getattr(module, func)
     monkeypatch.setattr(module, func, lambda *a, **k: seen.append(k.get(kwarg)) or real(*a, **k))
-    monkeypatch.setattr(step2_large, threshold, 1)
+    _set(monkeypatch, P, **{threshold: 1})
     big = step2_large.solve(P, sol, workers=1)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)
     assert g["status"] == "optimal" and big["ok"]
@@ -246,20 +253,20 @@ def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
 
 
 def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monkeypatch):
-    """The proximal iterative LP (PROX, used from PROX_MIN_FREE free blocks on) forced onto a
+    """The proximal iterative LP (PROX, used from prox_min_free free blocks on) forced onto a
     small wall (:func:`_forced_on_a_small_wall`): every LP is proximal."""
     from limit.solve import iterative_lp
 
-    seen, _ = _forced_on_a_small_wall(monkeypatch, "PROX_MIN_FREE", iterative_lp, "solve", "prox")
+    seen, _ = _forced_on_a_small_wall(monkeypatch, "prox_min_free", iterative_lp, "solve", "prox")
     assert seen and all(p == step2_large.PROX[2] for p in seen)
 
 
 def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(monkeypatch):
     """The settings of very large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first, "least-slack" last,
-    START_FACTORS_LARGE; from VERY_LARGE_MIN_FREE free blocks on) forced onto a small wall
+    START_FACTORS_LARGE; from very_large_min_free free blocks on) forced onto a small wall
     (:func:`_forced_on_a_small_wall`): every snap asks for the large walls' rules, and the starts
     are those at 0.5 mu and 0.4 mu."""
-    seen, big = _forced_on_a_small_wall(monkeypatch, "VERY_LARGE_MIN_FREE", nlp, "finish", "rules")
+    seen, big = _forced_on_a_small_wall(monkeypatch, "very_large_min_free", nlp, "finish", "rules")
     assert seen and all(r == ("ratio", "support", "least-slack") for r in seen)
     assert [r["start"] for r in big["starts"]] == ["lp-mu*0.5", "lp-mu*0.4"]
 
@@ -287,12 +294,12 @@ def test_a_verified_start_stops_the_others_after_the_grace(monkeypatch, grace):
 
 
 def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
-    """Below LARGE_MIN_FREE, solver 'auto' runs the successive LP and then the large route, and
+    """Below large_min_free, solver 'auto' runs the successive LP and then the large route, and
     keeps the large route's verified alpha only when it is lower; every run of both is listed.
     The successive LP is replaced by a stand-in that returns the large route's own verified
     point at a given alpha (or fails), so that only the choice is under test. (On the 70-stone
     Fig. 3 wall the large route verified 0.520808 where the successive LP kept the LP's
-    0.570752: limit/step2.py, ALSO_ITERATIVE.)"""
+    0.570752: the setting also_iterative.)"""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     big = step2_large.solve(P, sol, workers=1)
     assert big["ok"]
@@ -313,7 +320,7 @@ def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
         assert part["route"] == route and part["status"] == "optimal"
         assert part["alpha"] == pytest.approx(expected, abs=1e-12)
         assert [r["solver"] for r in part["runs"]] == ["sla"] + ["iterative-lp"] * len(big["starts"])
-    monkeypatch.setattr(step2, "ALSO_ITERATIVE", False)
+    _set(monkeypatch, P, also_iterative=False)
     part = step2.step2(P, sol, method="nlp")
     assert part["route"] == "successive-lp" and [r["solver"] for r in part["runs"]] == ["sla"]
 
@@ -321,7 +328,7 @@ def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
 def test_the_bench_auto_column_is_what_step2_keeps():
     """bench/step2_large_bench.py's 'auto' column, computed from the two routes it times, is the
     alpha step2.step2 itself returns for the same wall (the lower of the successive LP's and the
-    large route's below LARGE_MIN_FREE free blocks): the 'never worse than today' column."""
+    large route's below large_min_free free blocks): the 'never worse than today' column."""
     from bench.step2_large_bench import auto_alpha
 
     P, sol = _solved(B.running_bond_wall(4, 3, dim=2, L=0.4, H=0.3, mu=0.9))
@@ -330,7 +337,7 @@ def test_the_bench_auto_column_is_what_step2_keeps():
     assert part["status"] == "optimal"
     assert auto_alpha(row, P.n_dof // P.scene.ndof) == pytest.approx(part["alpha"], abs=1e-9)
     assert auto_alpha(row, P.n_dof // P.scene.ndof) <= row["today_alpha"] + 1e-12
-    assert auto_alpha(row, step2.LARGE_MIN_FREE) == row["alpha"]
+    assert auto_alpha(row, DEFAULT.large_min_free) == row["alpha"]
 
 
 @pytest.mark.parametrize("trust", [True, False])

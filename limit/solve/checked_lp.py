@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 
+from limit import settings
 from limit.solve import lp as lpmod, verify
 from limit.model.assemble import Assembled
 
@@ -65,7 +66,7 @@ def solve_lp(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER, fallback: bool = 
         sol.reason = "no collapse mechanism under this live load (alpha unbounded)"
     if sol.status == "infeasible" and not sol.reason:
         sol.reason = "the dead load alone cannot be carried"
-    if sol.status == "optimal" and sol.alpha < -verify.TOL_GAP:
+    if sol.status == "optimal" and sol.alpha < -settings.of(P).tol_gap:
         sol.status = "infeasible"
         sol.reason = f"collapses under the dead load alone (the live load would have to act backwards, alpha = {sol.alpha:.6g})"
     if sol.status == "optimal" and check_kinematic:

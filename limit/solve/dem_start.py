@@ -28,6 +28,7 @@ import time
 import numpy as np
 from scipy.optimize import nnls
 
+from limit import settings
 from limit.solve import nlp
 
 #: relative multiplier thresholds of the flowing set, largest first: one piece LP each
@@ -110,13 +111,13 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
     "N", "tau" (the rung that gave it), "n_flowing", "how" ("piece LP" or "successive LP"),
     "residuals" (its check's, when verified),
     "misfit", "tried": [{"tau", "how", "n_flowing", "alpha", "verified", "reason"}], "time_s",
-    "reason"}. ``backend`` of the LPs (:mod:`limit.solve.lpsub`; None: "highs" up to 3,000
-    unknowns, else "clarabel")."""
+    "reason"}. ``backend`` of the LPs (:mod:`limit.solve.lpsub`; None: "highs" up to the setting
+    ``highs_max_vars`` unknowns, else "clarabel")."""
     from limit.solve.nlp_problem import build
 
     t0 = time.perf_counter()
     N = build(P)
-    backend = backend or ("highs" if N.n <= 3000 else "clarabel")
+    backend = backend or ("highs" if N.n <= settings.of(P).highs_max_vars else "clarabel")
     vh = dof_vector(P, displacement) * P.Df
     out = {"status": "failed", "alpha": None, "z": None, "N": N, "tau": None, "n_flowing": 0, "how": None,
            "tried": []}

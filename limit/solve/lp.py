@@ -24,7 +24,7 @@ and ``ipm`` (:mod:`limit.solve.ipm`), an interior point method that exploits the
 interface-by-interface structure of the yield rows (2-4x faster than Clarabel
 from a few thousand blocks on, no infeasibility detection: a run that does not
 converge is "failed" and the next solver is asked). ``auto`` (the default) is
-``ipm`` from AUTO_IPM_MIN_DOF block unknowns on and ``clarabel`` below.
+``ipm`` from the setting ``lp_ipm_min_dof`` block unknowns on (:mod:`limit.settings`) and ``clarabel`` below.
 The defaults were chosen from ``make bench`` (see bench/lp_bench.py).
 A solver's inaccurate or unknown status is never reported as optimal.
 """
@@ -36,8 +36,9 @@ from dataclasses import dataclass, field
 import cvxpy as cp
 import numpy as np
 
+from limit import settings
 from limit.model.assemble import Assembled
-from limit.solve.solvers import AUTO_IPM_MIN_DOF, DEFAULT_SOLVER, FALLBACK, SOLVERS  # noqa: F401  (public here too)
+from limit.solve.solvers import DEFAULT_SOLVER, FALLBACK, SOLVERS  # noqa: F401  (public here too)
 
 #: solver name -> (cvxpy solver, options)
 CVXPY_SOLVERS = {
@@ -55,7 +56,7 @@ def resolve(solver: str, P: Assembled) -> str:
     if solver not in SOLVERS:
         raise ValueError(f"unknown solver {solver!r} (one of {', '.join(SOLVERS)})")
     if solver == "auto":
-        return "ipm" if P.n_dof >= AUTO_IPM_MIN_DOF else "clarabel"
+        return "ipm" if P.n_dof >= settings.of(P).lp_ipm_min_dof else "clarabel"
     return solver
 
 

@@ -3,7 +3,7 @@
 Problem: :mod:`limit.solve.nlp_problem` (the paper's eqs. 7-10, unknowns alpha,
 interface actions, block velocities and plastic multipliers). Solvers:
 
-``slsqp`` (small problems, up to ``SLSQP_MAX_VARS`` unknowns)
+``slsqp`` (small problems, up to the setting ``slsqp_max_vars`` unknowns)
     scipy's SLSQP, the SQP method of the paper, on ``min alpha`` with the
     linear constraints and the complementarity ``lam . s = 0`` as an equality,
     every gradient analytic (constant for the linear constraints).
@@ -33,14 +33,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import minimize
 
+from limit import settings
 from limit.solve import lpsub, mechanism, verify
 from limit.solve.nlp_problem import NLPProblem
 from limit.model.yield_domain import SLIDE, TWIST
 
-SLSQP_MAX_VARS = 250
-#: the successive LP stops raising its penalty once lam . s <= this x max(1, alpha): ten times
-#: below the check's limit (verify.TOL_COMP), so that its point passes the check
-SLA_COMP_TARGET = 1e-7
 
 
 # ---------------------------------------------------------------------------
@@ -107,8 +104,11 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
     (warm starts across steps and runs); built here for the "highs" backend if not given.
     ``jitter`` (n_faces,) >= 0: extra cost per unit multiplier, rho * jitter . lam, which
     steers a restart towards other mechanisms (the final point is re-checked without it).
-    ``deadline`` (time.perf_counter() value): stop there with the point reached.
+    ``deadline`` (time.perf_counter() value): stop there with the point reached. The penalty
+    stops growing once lam . s <= the setting ``sla_comp_target`` x max(1, alpha) (a stopping
+    target below the check's ``tol_comp``, so that the point passes the check).
     """
+    target = settings.of(N.P).sla_comp_target
     z = z0.copy()
     lo, hi = N.bounds()
     lo[N.ia] = 0.0
@@ -143,7 +143,7 @@ def solve_sla(N: NLPProblem, z0: np.ndarray, backend: str = "highs", rho0: float
             curv = rho * float(d[N.sl] @ ds)
             t = 1.0 if curv <= 0 else min(1.0, -slope / (2.0 * curv))
             z = z + t * d
-        if N.comp(z) <= SLA_COMP_TARGET * max(1.0, z[N.ia]) or rho >= rho_max:
+        if N.comp(z) <= target * max(1.0, z[N.ia]) or rho >= rho_max:
             break
         rho *= 10.0
     return z, f"SLA: {iters} LPs, final penalty {rho:g}"
@@ -196,7 +196,8 @@ def check(N: NLPProblem, z: np.ndarray, alpha_lp: float | None) -> tuple[bool, d
     lamh, s = z[N.sl], N.slack(z)
     r["complementarity"] = float(np.sum(np.abs(lamh * s))) / max(1.0, abs(alpha))
     r["alpha_above_lp"] = max(0.0, alpha - alpha_lp) / max(1.0, abs(alpha_lp)) if alpha_lp is not None else 0.0
-    ok, reason = verify.judge(r, complementarity=verify.TOL_COMP, alpha_above_lp=verify.TOL_GAP)
+    st = settings.of(P)
+    ok, reason = verify.judge(r, st, complementarity=st.tol_comp, alpha_above_lp=st.tol_gap)
     return ok, r, reason
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 #: step 1: name -> what it is ("auto" picks ipm or clarabel by size)
 STEP1 = {
-    "auto": "ipm from AUTO_IPM_MIN_DOF block unknowns on, clarabel below",
+    "auto": "ipm from lp_ipm_min_dof block unknowns on (limit.settings), clarabel below",
     "ipm": "the structured interior point method of limit.solve.ipm (interface-by-interface elimination)",
     "clarabel": "Clarabel through cvxpy (interior point, qdldl factorisation)",
     "ecos": "ECOS through cvxpy (interior point)",
@@ -17,9 +17,6 @@ STEP1 = {
 }
 SOLVERS = tuple(STEP1)
 DEFAULT_SOLVER = "auto"
-#: "auto" uses ipm from this many block unknowns on (make bench: the two are equally fast near
-#: 1,000 2D blocks, i.e. 3,000 unknowns; ipm 2.8x faster at 30,000)
-AUTO_IPM_MIN_DOF = 3000
 #: solvers tried in turn when an answer fails its verification
 FALLBACK = {"clarabel": ["highs-ipm", "ecos"], "ecos": ["clarabel"], "highs": ["clarabel"],
             "highs-ipm": ["clarabel"], "ipm": ["clarabel", "highs-ipm"]}

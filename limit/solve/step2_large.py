@@ -19,16 +19,16 @@ scenes whose associative LP has no mechanism):
    snaps it to an exactly complementary point, which is checked in turn. A
    failed snap is retried only when the residual has fallen tenfold. A residual
    that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
-   its best iterate snapped too. From ``VERY_LARGE_MIN_FREE`` free blocks on (2D), both
+   its best iterate snapped too. From ``very_large_min_free`` free blocks on (2D), both
    thresholds are lower (``SNAP_COMP_LARGE``, ``SNAP_PLATEAU_LARGE``): a failed snap
    costs there several LPs.
-   From ``PROX_MIN_FREE`` free blocks on (2D), each LP is the proximal QP of
+   From ``prox_min_free`` free blocks on (2D), each LP is the proximal QP of
    :func:`limit.solve.iterative_lp.solve` (``prox``, :data:`PROX`): the normal forces are
    pulled toward N*, so that the statics stop jumping across a degenerate optimal face.
 3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
    0.25 mu), one per core at once, each solving its own reduced-friction LP; from
-   ``ONE_ROUND_MIN_FREE`` free blocks on, only as many as there are cores (from
-   ``VERY_LARGE_MIN_FREE`` on in 2D, at 0.5 mu and 0.4 mu: :data:`START_FACTORS_LARGE`). The
+   ``one_round_min_free`` free blocks on, only as many as there are cores (from
+   ``very_large_min_free`` on in 2D, at 0.5 mu and 0.4 mu: :data:`START_FACTORS_LARGE`). The
    lowest verified alpha is kept. Each verified alpha is a
    non-associative collapse state: an upper bound of the global frictional
    minimum, not the minimum itself.
@@ -36,6 +36,10 @@ scenes whose associative LP has no mechanism):
 When the associative LP is unbounded (sliding needs dilatancy, e.g. a block
 wedged between two fixed surfaces), the first N* comes from an equilibrium of
 the dead load alone (alpha = 0).
+
+The size thresholds (``one_round_min_free``, ``very_large_min_free``, ``prox_min_free``) are
+settings (:mod:`limit.settings`), read from the problem's options; the other constants below
+are the route's own.
 
 Measured times and alphas (running-bond walls, ``make bench``: bench/step2_large_bench.py) are in
 docs/performance.md, 'Step 2 at scale'.
@@ -47,6 +51,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from limit import settings
 from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, piece_statics, rigid_clusters
 from limit.solve.nlp_problem import build
 
@@ -54,16 +59,15 @@ from limit.solve.nlp_problem import build
 #: has no new low for STALL LPs; a start with no new low for STALL LPs at OMEGA_MIN stops as stalled,
 #: so that its budget goes to the others
 OMEGA = {2: 1.0, 3: 0.5}
-#: ... from ONE_ROUND_MIN_FREE free blocks on, where omega = 1 oscillates
+#: ... from one_round_min_free free blocks on, where omega = 1 oscillates
 OMEGA_LARGE = 0.5
 #: the smallest relaxation, and the LPs without a new low that halve it
 OMEGA_MIN = 0.125
 STALL = 8
-#: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension from PROX_MIN_FREE
-#: free blocks on (None: none): it pulls the normal forces toward N*, so that the statics stop jumping
-#: across a degenerate optimal face
+#: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension from the setting
+#: prox_min_free free blocks on (None: none): it pulls the normal forces toward N*, so that the
+#: statics stop jumping across a degenerate optimal face
 PROX = {2: 0.03, 3: None}
-PROX_MIN_FREE = 5000
 #: complementarity residual (units of alpha) below which a snap by the piece LP is tried
 SNAP_COMP = 1e-3
 #: ... and, from the best iterate so far, when the residual has had no new low for PLATEAU LPs
@@ -88,11 +92,9 @@ SNAP_FIRST = True
 #: settled alpha), "support" holds more faces at their limit than a statics can, and "ratio" keeps
 #: too few for a mechanism
 LEAST_SLACK_SUPPORT = 1e-6
-#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS, a snap is tried below a residual
-#: of SNAP_COMP_LARGE (from a plateau below SNAP_PLATEAU_LARGE), "ratio" first: a failed snap costs
-#: there more than several LPs
-VERY_LARGE_MIN_FREE = 5000
-#: ... in these dimensions (2D only: no 3D wall reaches VERY_LARGE_MIN_FREE in the benchmarks)
+#: from the setting very_large_min_free free blocks on, in these dimensions (2D only: no 3D wall
+#: reaches it in the benchmarks), a snap is tried below a residual of SNAP_COMP_LARGE (from a
+#: plateau below SNAP_PLATEAU_LARGE), "ratio" first: a failed snap costs there more than several LPs
 VERY_LARGE_DIMS = (2,)
 SNAP_COMP_LARGE = 1e-4
 SNAP_PLATEAU_LARGE = 1e-3
@@ -111,19 +113,17 @@ KINEMATICS_BACKEND = "clarabel"
 MAX_ITER = 100
 #: friction factors of the starts (1 = the associative LP itself)
 START_FACTORS = (1.0, 0.5, 0.25)
-#: ... from VERY_LARGE_MIN_FREE free blocks on, where the associative LP's own start stalls
+#: ... from very_large_min_free free blocks on, where the associative LP's own start stalls
 START_FACTORS_LARGE = (0.5, 0.4)
-#: ... from ONE_ROUND_MIN_FREE free blocks on in 3D, where the associative LP's own start is the
+#: ... from one_round_min_free free blocks on in 3D, where the associative LP's own start is the
 #: slowest and not the lowest
 START_FACTORS_ONE_ROUND_3D = (0.5, 0.25, 1.0)
-#: from this many free blocks on, only as many starts as there are workers (the first factors): a
-#: start that waits for a core would not get one within the budget
-ONE_ROUND_MIN_FREE = 2000
-#: ... and there, in these dimensions, each LP starts from the last one's point (iterative_lp's
+#: from the setting one_round_min_free free blocks on (where only as many starts run as there are
+#: workers), in these dimensions, each LP starts from the last one's point (iterative_lp's
 #: ``warm_start``)
 WARM_START_DIMS = (2,)
 #: once a start has verified at t (s from the route's start), the others stop at t x (1 + GRACE):
-#: from VERY_LARGE_MIN_FREE free blocks on, in VERY_LARGE_DIMS only, where every start that verifies
+#: from very_large_min_free free blocks on, in VERY_LARGE_DIMS only, where every start that verifies
 #: gives the same alpha; not in 3D, where the starts' alphas differ
 GRACE = 0.0
 
@@ -133,13 +133,13 @@ def _free_blocks(P) -> int:
 
 
 def _one_round(P) -> bool:
-    """At least ONE_ROUND_MIN_FREE free blocks: one round of starts, relaxation OMEGA_LARGE."""
-    return _free_blocks(P) >= ONE_ROUND_MIN_FREE
+    """At least one_round_min_free free blocks: one round of starts, relaxation OMEGA_LARGE."""
+    return _free_blocks(P) >= settings.of(P).one_round_min_free
 
 
 def _very_large(P) -> bool:
-    """At least VERY_LARGE_MIN_FREE free blocks, in a dimension of VERY_LARGE_DIMS."""
-    return _free_blocks(P) >= VERY_LARGE_MIN_FREE and P.scene.dim in VERY_LARGE_DIMS
+    """At least very_large_min_free free blocks, in a dimension of VERY_LARGE_DIMS."""
+    return _free_blocks(P) >= settings.of(P).very_large_min_free and P.scene.dim in VERY_LARGE_DIMS
 
 
 def _snap_settings(P) -> tuple[float, float, tuple]:
@@ -334,7 +334,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
                              nstar0=nstar0, on_iterate=on_iterate,
                              lp_tol=lambda: LP_TOL_FAR if relax["best"] > FAR_COMP else LP_TOL_NEAR[P.scene.dim],
                              warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS,
-                             prox=PROX[P.scene.dim] if _free_blocks(P) >= PROX_MIN_FREE else None)
+                             prox=PROX[P.scene.dim] if _free_blocks(P) >= settings.of(P).prox_min_free else None)
     rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
     if found:

@@ -2,7 +2,9 @@
 
 All residuals are measured on the scaled problem (forces in units of the mean
 block weight Wc, moments in Wc Lc, mechanism normalised to unit live-load
-work), so the tolerances below are dimensionless:
+work), so the tolerances below are dimensionless. Their values are the settings in use
+(:mod:`limit.settings`: ``tol_eq``, ``tol_yield``, ``tol_kin``, ``tol_gap``, ``tol_comp``
+of the problem's options); the module names TOL_* are the defaults:
 
 * equilibrium  ``|E x + f0 + alpha fL|_inf``            <= TOL_EQ, and per block:
   its out-of-balance force over the size of its own load (the norm of its
@@ -23,14 +25,24 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-TOL_EQ = 1e-6
-TOL_YIELD = 1e-6
-TOL_KIN = 1e-6
-TOL_GAP = 1e-6
-TOL_COMP = 1e-6
-#: the limits every answer meets (the associative LP's and a frictional point's)
-LIMITS = {"equilibrium": TOL_EQ, "block_equilibrium": TOL_EQ, "yield": TOL_YIELD, "compatibility": TOL_KIN,
-          "multipliers": TOL_KIN, "normalisation": TOL_KIN}
+from limit.settings import DEFAULT, Settings, of
+
+#: the default tolerances (the check reads those of the settings in use: :func:`limits`)
+TOL_EQ = DEFAULT.tol_eq
+TOL_YIELD = DEFAULT.tol_yield
+TOL_KIN = DEFAULT.tol_kin
+TOL_GAP = DEFAULT.tol_gap
+TOL_COMP = DEFAULT.tol_comp
+
+
+def limits(s: Settings = DEFAULT) -> dict:
+    """The limits every answer meets (the associative LP's and a frictional point's), by residual."""
+    return {"equilibrium": s.tol_eq, "block_equilibrium": s.tol_eq, "yield": s.tol_yield,
+            "compatibility": s.tol_kin, "multipliers": s.tol_kin, "normalisation": s.tol_kin}
+
+
+#: the default limits
+LIMITS = limits()
 
 
 def _inf(v) -> float:
@@ -90,13 +102,14 @@ def check_lp(P, sol) -> tuple[bool, dict, str]:
     alpha_kin = float(-P.f0 @ sol.u + P.model.k @ sol.lam)
     r["alpha_kinematic"] = alpha_kin
     r["duality_gap"] = abs(sol.alpha - alpha_kin) / max(1.0, abs(sol.alpha))
-    ok, reason = judge(r, duality_gap=TOL_GAP)
+    s = of(P)
+    ok, reason = judge(r, s, duality_gap=s.tol_gap)
     return ok, r, reason
 
 
-def judge(r: dict, **extra: float) -> tuple[bool, str]:
-    """(ok, reason) of residuals ``r`` against :data:`LIMITS` and the ``extra`` limits
-    (name=limit); a missing or NaN residual fails."""
-    bad = [f"{k} residual {r.get(k, float('nan')):.2e} > {lim:.0e}" for k, lim in {**LIMITS, **extra}.items()
+def judge(r: dict, s: Settings = DEFAULT, **extra: float) -> tuple[bool, str]:
+    """(ok, reason) of residuals ``r`` against the limits of settings ``s`` (:func:`limits`) and
+    the ``extra`` limits (name=limit); a missing or NaN residual fails."""
+    bad = [f"{k} residual {r.get(k, float('nan')):.2e} > {lim:.0e}" for k, lim in {**limits(s), **extra}.items()
            if not (r.get(k, float("nan")) <= lim)]
     return not bad, "; ".join(bad)
