@@ -1,5 +1,5 @@
 """Command line: ``limit info|solve|check|sweep SCENE.json [--json OUT.json]``, ``limit import FILE... -o SCENE.json``,
-``limit build KIND ... -o SCENE.json`` and ``limit report SCENE.json -o DIR`` (or ``python -m limit``).
+``limit build KIND ... -o SCENE.json``, ``limit report SCENE.json -o DIR`` and ``limit settings`` (or ``python -m limit``).
 
 Exit status (docs/formats.md, 'Commands'): 0 success, 2 rejected input (one line on
 stderr, no traceback), 1 any other failure, 130 interrupted.
@@ -37,7 +37,8 @@ def _parser() -> argparse.ArgumentParser:
                                                      "that collapses under its dead load, the dead-load mechanism")
     ps.add_argument("--solver", choices=LP_SOLVERS, default="auto",
                     help="LP solver (default auto: the structured interior point method 'ipm' from 3,000 "
-                         "block unknowns on, clarabel below); a failed check falls back to another")
+                         "block unknowns on (setting lp_ipm_min_dof), clarabel below); a failed check falls "
+                         "back to another")
     ps.add_argument("--no-fallback", action="store_true", help="do not retry a failed LP with another solver")
     ps.add_argument("--model", choices=["paper", "vertex"], default="paper",
                     help="interface model: paper's yield domain (default) or point contacts at the vertices")
@@ -51,16 +52,22 @@ def _parser() -> argparse.ArgumentParser:
     ps.add_argument("--nlp-solver", choices=["auto", "slsqp", "sla"], default="auto",
                     help="step 2 solver: SLSQP (small problems) or successive LP; auto picks by size")
     ps.add_argument("--global", dest="global_check", action="store_true",
-                    help="also compute the global frictional minimum by mixed-integer LP (scenes up to 30 free blocks); "
-                         "a point of it below step 2's alpha that passes the check becomes the answer")
+                    help="also compute the global frictional minimum by mixed-integer LP (scenes up to 30 free "
+                         "blocks, setting global_max_blocks); a point of it below step 2's alpha that passes "
+                         "the check becomes the answer")
     ps.add_argument("--global-time-limit", type=float, default=None, metavar="S",
-                    help="wall-clock limit of that MILP in s (default 120); at the limit its best point so far counts")
+                    help="wall-clock limit of that MILP in s (default 120, setting global_time_limit); at the "
+                         "limit its best point so far counts")
     ps.add_argument("--iterative-lp", action="store_true",
                     help="also run the iterative LP of Gilbert, Casapulla & Ahmed (2006)")
     ps.add_argument("--arbitrary-start", action="store_true",
                     help="also run the NLP from an arbitrary start (the paper's Fig. 4 comparison)")
     ps.add_argument("--nlp-time-budget", type=float, default=None, metavar="S",
-                    help="wall-clock budget of step 2 in s: no restart begins after it (default 120)")
+                    help="wall-clock budget of step 2 in s: no restart begins after it (default 120, setting "
+                         "nlp_time_budget)")
+    ps.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="change a setting (repeatable): a route threshold, time budget or check tolerance; "
+                         "'limit settings' lists them with their defaults")
     ps.add_argument("--no-cache", action="store_true",
                     help="solve again even when the result cache holds this scene with these options "
                          "(also: the environment variable LIMIT_NO_CACHE=1)")
@@ -149,6 +156,7 @@ def _parser() -> argparse.ArgumentParser:
     pd.add_argument("--dem", action="store_true", help="check the designed scene with YADE's pushover (slow)")
     pd.add_argument("-o", "--output", default=None, metavar="OUT.json", help="write the designed scene here")
     pd.add_argument("--json", default=None, metavar="OUT.json", help="write the design's record here")
+    sub.add_parser("settings", help="list the settings (limit solve --set NAME=VALUE): default, unit, meaning")
     pb = sub.add_parser("build", help="write a scene of a generated structure (arch, wall, vault, dome)")
     from scenes.generators.command import add_arguments as build_arguments
     build_arguments(pb)
@@ -353,8 +361,9 @@ def cmd_solve(args) -> int:
 
     if args.slide_faces is not None and (args.slide_faces < 4 or args.slide_faces % 2 or args.slide_faces > 360):
         raise SceneError(f"--slide-faces: must be an even number from 4 to 360, got {args.slide_faces}")
+    changes = settings_of_args(args)
     scene = load_scene(args.scene, strict=args.strict)
-    opts = Options(model=args.model, n_slide=args.slide_faces, slide_fit=args.slide_fit)
+    opts = Options(model=args.model, n_slide=args.slide_faces, slide_fit=args.slide_fit, settings=changes)
     nlp_options = {"solver": args.nlp_solver, "global_check": args.global_check, "iterative": args.iterative_lp,
                    "arbitrary": args.arbitrary_start}
     if args.nlp_time_budget is not None:
@@ -381,7 +390,7 @@ def cmd_solve(args) -> int:
         if unknown:
             raise SceneError(f"--dem-start {args.dem_start}: block '{unknown[0]}' is not in the scene "
                              f"({len(unknown)} unknown id(s)): a DEM run of another scene?")
-    cache, k = _solve_cache(args, scene, nlp_options)
+    cache, k = _solve_cache(args, scene, nlp_options, opts.settings)
     out = cache.get("solve", scene.name, k) if cache is not None else None
     if out is not None:
         print(format_result(out))
@@ -408,13 +417,31 @@ def cmd_solve(args) -> int:
     return 1 if failed else 0
 
 
-#: options of ``limit solve`` that decide nothing in its result (outputs and the cache itself)
-NOT_IN_SOLVE_KEY = ("command", "scene", "json", "plot", "no_cache", "cache", "dem_start", "strict")
+def settings_of_args(args) -> dict:
+    """The settings that ``--set NAME=VALUE`` changes, {name: value} (the last one of a name
+    wins); SceneError (exit 2) names a bad item's key."""
+    from limit.settings import DEFAULT, parse
+
+    changes = {}
+    try:
+        for item in args.set:
+            key, value = parse(item)
+            changes[key] = value
+        DEFAULT.replace(changes)  # the ranges checked here, so that a bad value is rejected input
+    except ValueError as exc:
+        raise SceneError(f"--set: {exc}" if not str(exc).startswith("--set") else str(exc)) from None
+    return changes
 
 
-def _solve_cache(args, scene, nlp_options) -> tuple:
+#: options of ``limit solve`` that decide nothing in its result (outputs and the cache itself), and
+#: ``set``, which enters the key as the settings that differ from the defaults
+NOT_IN_SOLVE_KEY = ("command", "scene", "json", "plot", "no_cache", "cache", "dem_start", "strict", "set")
+
+
+def _solve_cache(args, scene, nlp_options, settings=None) -> tuple:
     """(cache, key) of a ``limit solve`` run, or (None, None) with ``--no-cache`` or LIMIT_NO_CACHE:
-    the result file is kept by scene content, options (the DEM start's state included) and the
+    the result file is kept by scene content, options (the DEM start's state included), the
+    settings that differ from the defaults (:meth:`limit.settings.Settings.changed`) and the
     code's fingerprint (:mod:`reports.cache`), like ``make validate``'s stages."""
     if args.no_cache or os.environ.get("LIMIT_NO_CACHE"):
         return None, None
@@ -422,6 +449,9 @@ def _solve_cache(args, scene, nlp_options) -> tuple:
 
     options = {k: v for k, v in vars(args).items() if k not in NOT_IN_SOLVE_KEY}
     options["dem_state"] = nlp_options.get("dem_state")
+    changed = settings.changed() if settings is not None else {}
+    if changed:
+        options["settings"] = changed
     return Cache(args.cache or DEFAULT_DIR), key("solve", scene.data, options)
 
 
@@ -438,6 +468,13 @@ def cmd_info(args) -> int:
     return 0
 
 
+def cmd_settings(args) -> int:
+    from limit.settings import format_table
+
+    print(format_table())
+    return 0
+
+
 def cmd_report(args) -> int:
     from reports.scene_report import run
 
@@ -445,7 +482,7 @@ def cmd_report(args) -> int:
 
 
 COMMANDS = {"info": cmd_info, "solve": cmd_solve, "check": cmd_check, "sweep": cmd_sweep, "design": cmd_design, "import": cmd_import,
-            "build": cmd_build, "report": cmd_report}
+            "build": cmd_build, "report": cmd_report, "settings": cmd_settings}
 
 
 def _one_line_warnings() -> None:
