@@ -14,7 +14,9 @@ The public API::
     r.lp.alpha, r.nlp.alpha, r.alpha        # associative bound, frictional, the answer
     r.to_dict()                              # the result file's content (docs/formats.md)
 
-``analyse(scene, method="auto", options=limit.Options(...), ...)``; errors:
+``analyse(scene, method="auto", options=limit.Options(...), ...)``; route thresholds, time
+budgets and check tolerances: ``limit.Options(settings={"large_min_free": 100})``
+(:mod:`limit.settings`, docs/settings.md); errors:
 :class:`SceneError` (rejected input), :class:`SolverError`; warnings:
 :class:`SceneWarning`.
 """
