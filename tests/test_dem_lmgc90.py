@@ -181,6 +181,19 @@ def test_a_non_finite_position_is_failed_with_the_reason(tmp_path):
     assert res["status"] == "failed" and "non-finite block position" in res["reason"]
 
 
+def test_the_time_step_rule_scales_dt_to_the_thinnest_free_block():
+    """dt_tau: dt = min(dt, dt_tau sqrt(h / g)). A 0.3 x 1 m block (2D, 1 m deep) of least extent
+    h = 0.3 m with dt_tau 1e-3: sqrt(0.3 / 9.81) = 0.174874 s, so dt = 1.74874e-4 s (below the
+    default 1e-3); dt_tau 0 keeps 1e-3. The alpha stays b / h = 0.3 either way."""
+    ruled = _alpha(B.single_block(2, 0.3, 1.0, mu=0.8), dt_tau=1e-3)
+    assert ruled["runs"][0]["dt"] == pytest.approx(1e-3 * math.sqrt(0.3 / 9.81), rel=1e-9)
+    assert ruled["alpha"] == pytest.approx(0.3, rel=RTOL)
+    assert _alpha(B.single_block(2, 0.3, 1.0, mu=0.8))["runs"][0]["dt"] == 1e-3
+    with pytest.raises(ValueError, match="dt_tau"):
+        knobs({"dt_tau": -1})
+    assert knobs({"dt_tau": 0})["dt_tau"] == 0
+
+
 def test_bad_knobs_are_named():
     with pytest.raises(ValueError, match="frob"):
         run_scene(B.single_block(2), engine="lmgc90", frob=1)

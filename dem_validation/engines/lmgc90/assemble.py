@@ -17,7 +17,7 @@ def assemble_rigid(raw: dict) -> DemResult:
         return failed(f"the LMGC90 side returned {len(runs)} runs, expected 1")
     run = runs[0]
     summary = {k: run.get(k) for k in ("eps", "status", "alpha", "alpha_lo", "alpha_hi", "steps",
-                                        "dead_load_collapse")}
+                                        "dead_load_collapse", "dt") if k != "dt" or "dt" in run}
     base = {"runs": [summary], "history": [dict(h, eps=0.0) for h in run.get("history", [])],
             "steps": run.get("steps", 0), "displacement": run.get("displacement")}
     if run.get("dead_load_collapse"):

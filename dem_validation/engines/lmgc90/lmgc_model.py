@@ -65,6 +65,13 @@ class Unsupported(ValueError):
 class RigidScene:
     """The job's geometry and loads in LMGC90's frame; :meth:`trial` runs one load case."""
 
+    @staticmethod
+    def thinnest(job: dict) -> float:
+        """The least bounding-box extent of the free blocks (m; every block when none is free)."""
+        blocks = [b for b in job["blocks"] if not b["fixed"]] or job["blocks"]
+        return min(float(np.ptp(np.vstack([q["vertices"] for q in b.get("parts", [b])]), axis=0).min())
+                   for b in blocks)
+
     def __init__(self, job: dict, gravity, dt: float, alert_rel: float = 0.01):
         import compas_lmgc90._lmgc90 as core  # noqa: F401  (fails early when the package is missing)
 
