@@ -111,13 +111,14 @@ class Result:
 
     def raise_for_status(self) -> "Result":
         """This result, or :class:`limit.errors.SolverError` when it has no trustworthy answer: a
-        step that failed (or an LP answer that stayed inaccurate), naming the step and its reason.
-        An infeasible or unbounded LP is an answer (the dead load alone collapses; no mechanism)
-        and raises nothing: its ``alpha`` is None."""
+        step whose status is "failed" (the case in which ``limit solve`` exits 1), naming the step
+        and its reason. An infeasible or unbounded LP is an answer (the dead load alone collapses;
+        no mechanism) and raises nothing: its ``alpha`` is None. :func:`analyse` itself never
+        raises SolverError: a failed step is a status of its result."""
         from limit.errors import SolverError
 
         for name, part in (("LP", self.lp), ("step 2", self.nlp)):
-            if part is not None and part.status in ("failed", "inaccurate"):
+            if part is not None and part.status == "failed":
                 raise SolverError(f"{self.scene}: {name} {part.status}" + (f": {part.reason}" if part.reason else ""))
         return self
 

@@ -1,4 +1,4 @@
-"""Exceptions that the command line turns into exit statuses."""
+"""The library's exceptions, and the one mapping of exceptions to exit statuses (run_command)."""
 
 
 class SceneError(ValueError):
@@ -17,7 +17,9 @@ class SceneWarning(UserWarning):
 
 
 class SolverError(RuntimeError):
-    """A solver run that could not produce a trustworthy answer (exit status 1)."""
+    """A step that ended "failed": raised only by :meth:`limit.api.Result.raise_for_status`, for a
+    script that needs a trustworthy number. The analysis and the command line report a failed step
+    as a status instead (``limit solve`` exits 1); escaping a command, it is exit status 1 too."""
 
 
 def run_command(command, debug_env: str = "LIMIT_DEBUG") -> int:

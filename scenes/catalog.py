@@ -47,8 +47,27 @@ FIG3_70_DEM_NOTE = (
 EXAMPLE_DEMAND = {"ag_g": 0.2, "S": 1.2, "F0": 2.5, "TB": 0.15, "TC": 0.5, "TD": 2.4, "q": 2.0, "fc": 1.35}
 
 
-def entries() -> dict:
-    """name -> scene dict, in report order."""
+#: the scenes whose expected alpha is a four-hinge mechanism search (scenes/closed_forms.py,
+#: scenes/generators/reference.py), about a minute in all, most of it the 27-voussoir arch
+FOUR_HINGE = ("arch-semicircular-9-2d", "arch-segmental-7-3d", "arch-semicircular-27-2d", "arch-pointed-6-on-piers-2d")
+
+
+def stored_references() -> dict:
+    """name -> the four-hinge alpha stored in its file (``expected.alpha``), for each of FOUR_HINGE."""
+    return {name: json.loads((CATALOG_DIR / f"{name}.json").read_text())["expected"]["alpha"] for name in FOUR_HINGE}
+
+
+def hinge_reference(name: str, search, references: dict | None = None) -> float:
+    """The four-hinge alpha of scene ``name`` rounded to 1e-10: ``references[name]`` where given,
+    else ``search()``."""
+    if references is not None and name in references:
+        return references[name]
+    return round(search(), 10)
+
+
+def entries(references: dict | None = None) -> dict:
+    """name -> scene dict, in report order. ``references``: name -> four-hinge alpha, taken instead
+    of running the search (:func:`stored_references`: the values the files hold)."""
     out = {}
 
     def add(d):
@@ -136,15 +155,17 @@ def entries() -> dict:
     add(B.running_bond_wall(6, 5, dim=3, mu=0.65, name="wall-6x5-3d"))
     hinge_src = ("four-hinge mechanism method over all hinge sets (scenes/closed_forms.py, independent of limit/); "
                  "sliding does not govern at mu = 0.6")
+    ref9 = hinge_reference("arch-semicircular-9-2d", lambda: arch_reference(9, 1.0, 0.15), references)
     add(B.arch(9, R=1.0, t=0.15, dim=2, mu=0.6, name="arch-semicircular-9-2d",
-               expected={"alpha": round(arch_reference(9, 1.0, 0.15), 10), "rtol": 1e-6, "source": hinge_src}))
+               expected={"alpha": ref9, "rtol": 1e-6, "source": hinge_src}))
+    ref7 = hinge_reference("arch-segmental-7-3d", lambda: arch_reference(7, 1.5, 0.2, 120.0), references)
     add(B.arch(7, R=1.5, t=0.2, span_deg=120, dim=3, mu=0.6, name="arch-segmental-7-3d",
-               expected={"alpha": round(arch_reference(7, 1.5, 0.2, 120.0), 10), "rtol": 1e-6,
+               expected={"alpha": ref7, "rtol": 1e-6,
                          "source": hinge_src + " (the 3D arch is the 2D one extruded, loaded in its plane)"}))
     add(B.corner_walls(courses=4, len_a=4, len_b=3, name="corner-walls-3d"))
-    for d in paper_entries() + benchmark_entries():
+    for d in paper_entries() + benchmark_entries(references):
         add(d)
-    add(generated_arch_entry())
+    add(generated_arch_entry(references))
     for d in feature_entries():
         add(d)
     for stage, costs in (("dem", DEM_COST_S), ("lmgc", LMGC_COST_S)):
@@ -227,12 +248,13 @@ def paper_entries() -> list:
     return out
 
 
-def benchmark_entries() -> list:
-    """Benchmarks from other publications (values we could confirm, with their sources)."""
+def benchmark_entries(references: dict | None = None) -> list:
+    """Benchmarks from other publications (values we could confirm, with their sources);
+    ``references`` as :func:`entries`."""
     out = []
-    ref27 = arch_reference(27, 1.0, 0.15)
+    ref27 = hinge_reference("arch-semicircular-27-2d", lambda: arch_reference(27, 1.0, 0.15), references)
     out.append(B.arch(27, R=1.0, t=0.15, dim=2, mu=0.6, name="arch-semicircular-27-2d",
-                      expected={"alpha": round(ref27, 10), "rtol": 1e-6,
+                      expected={"alpha": ref27, "rtol": 1e-6,
                                 "source": "four-hinge mechanism method over all hinge sets (scenes/closed_forms.py, "
                                           "independent of limit/); sliding does not govern at mu = 0.6; the "
                                           "issue's probe found 0.1453 for mu >= 0.6"},
@@ -345,17 +367,18 @@ def ntc_pier_entry() -> dict:
     return d
 
 
-def generated_arch_entry() -> dict:
+def generated_arch_entry(references: dict | None = None) -> dict:
     """A pointed arch on piers with skewbacks from scenes.generators (``limit build arch --kind pointed
-    --n 6 --pier-courses 2``), its reference the four-hinge search over the whole chain, piers included."""
+    --n 6 --pier-courses 2``), its reference the four-hinge search over the whole chain, piers included
+    (``references`` as :func:`entries`)."""
     from .generators import arch as gen_arch
     from .generators.reference import chain_hinge_alpha
 
     d = gen_arch("pointed", span=2.0, thickness=0.25, n=6, pier_height=1.5, pier_width=0.5, pier_courses=2, mu=0.8,
                  name="arch-pointed-6-on-piers-2d")
     chain = ["pier-right-0", "skewback-right"] + [f"v{k}" for k in range(6)] + ["skewback-left", "pier-left-0"]
-    ref = chain_hinge_alpha(d, chain, "base", "base")["alpha"]
-    d["expected"] = {"alpha": round(ref, 10), "rtol": 1e-6,
+    ref = hinge_reference(d["name"], lambda: chain_hinge_alpha(d, chain, "base", "base")["alpha"], references)
+    d["expected"] = {"alpha": ref, "rtol": 1e-6,
                      "source": "four-hinge mechanism method over the chain base | pier course | skewback | 6 "
                                "voussoirs | skewback | pier course | base, hinges at either end of any four "
                                "joints (scenes/generators/reference.chain_hinge_alpha with scenes/closed_forms."
@@ -373,9 +396,11 @@ def _oblique(half_x, half_y, h, theta):
     return min(cands)
 
 
-def write(check: bool = False) -> int:
+def write(check: bool = False, references: dict | None = None) -> int:
+    """Write the catalog's files from the builders, or with ``check`` only compare them (1 if any
+    differs); ``references`` as :func:`entries`."""
     CATALOG_DIR.mkdir(exist_ok=True)
-    wanted = {f"{name}.json": json.dumps(d, indent=1) + "\n" for name, d in entries().items()}
+    wanted = {f"{name}.json": json.dumps(d, indent=1) + "\n" for name, d in entries(references).items()}
     stale = []
     for fname, text in wanted.items():
         p = CATALOG_DIR / fname

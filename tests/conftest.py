@@ -30,3 +30,28 @@ def run_module(module, *args, timeout=600):
     """Run ``python -m module args`` in a subprocess; returns CompletedProcess (text)."""
     return subprocess.run([sys.executable, "-m", module, *map(str, args)], capture_output=True, text=True,
                           cwd=ROOT, timeout=timeout)
+
+
+def single_block_job(**knobs) -> dict:
+    """The DEM job (dem_validation.job) of one 0.3 x 1.0 m block on a base, mu = 0.8, with the
+    given YADE knobs: what the runner tests hand to a real or a fake engine."""
+    from dem_validation import params
+    from dem_validation.job import build_job
+    from limit.geom.interfaces import find_interfaces
+    from limit.model.loads import dead_and_live
+    from limit.model.scene import load_scene
+    from scenes import builders
+
+    scene = load_scene(builders.single_block(2, 0.3, 1.0, mu=0.8))
+    f0, fL = dead_and_live(scene)
+    return build_job(scene, find_interfaces(scene), f0, fL, params.check(knobs))
+
+
+#: the catalog scenes that the whole-catalog tests check in the fast subset too (a rocking block,
+#: a frictional pair, a 2D arch, a 3D portal); the other scenes' cases carry the slow marker
+FAST_CATALOG = ("block-rocking-2d", "side-by-side-2d", "arch-semicircular-9-2d", "portal-3d")
+
+
+def catalog_params(paths) -> list:
+    """pytest parameters of catalog files, named by their scene, marked slow outside FAST_CATALOG."""
+    return [pytest.param(p, id=p.stem, marks=() if p.stem in FAST_CATALOG else pytest.mark.slow) for p in paths]

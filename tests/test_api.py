@@ -10,6 +10,7 @@ import limit
 from scenes import builders as B
 
 
+@pytest.mark.slow  # about 4 s: a fresh interpreter that imports limit and solves
 def test_the_readme_one_liner():
     p = subprocess.run([sys.executable, "-c", "import limit; r = limit.analyse(limit.load_scene("
                         "'scenes/catalog/block-rocking-2d.json')); print(r.lp.alpha)"], capture_output=True, text=True)
@@ -67,6 +68,7 @@ def test_errors_are_exported():
     assert issubclass(limit.SceneWarning, UserWarning)
 
 
+@pytest.mark.slow  # about 4 s: the installed command in two subprocesses
 def test_the_installed_command_and_its_version():
     exe = Path(sys.executable).with_name("limit")
     p = subprocess.run([str(exe), "--version"], capture_output=True, text=True)

@@ -29,7 +29,7 @@ def random_boxes(seed):
 
 
 @pytest.mark.parametrize("chunk", [1, 7, 2_000_000])
-@pytest.mark.parametrize("tol", [0.0, 1e-3, 0.05])
+@pytest.mark.parametrize("tol", [0.0] + [pytest.param(t, marks=pytest.mark.slow) for t in (1e-3, 0.05)])  # 1.5-2 s each
 def test_random_boxes_match_brute_force(tol, chunk):
     """60 random scenes: exactly the brute-force pairs. chunk = 1 and 7 run the chunk loop once per
     sweep position or few (chunk = 1 also when one position alone has more candidates than chunk)."""
@@ -64,7 +64,8 @@ def test_touching_lattice_count(shape, chunk):
     assert len(as_set(*candidate_pairs(lo, lo + 1.0 - 1e-9, 1e-8, chunk=chunk))) == expected
 
 
-@pytest.mark.parametrize("tol", [-1e-3, -0.05, -0.2])
+@pytest.mark.parametrize("tol", [pytest.param(-1e-3, marks=pytest.mark.slow), -0.05,  # about 1.5 s each
+                                 pytest.param(-0.2, marks=pytest.mark.slow)])
 def test_negative_tolerance_misses_no_overlap(tol):
     """tol < 0 (limit/geom/overlap.py: boxes overlapping by more than |tol|): no overlapping pair is missed.
     Measured: the sweep also returns pairs in which a box is thinner than |tol| along the sweep axis

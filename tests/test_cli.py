@@ -8,12 +8,21 @@ import pytest
 from limit.solve import lp as lpmod, nlp
 from limit.cli import main
 
-from tests.conftest import ROOT, run_module
+from tests.conftest import ROOT
 
 SIDE = ROOT / "scenes" / "catalog" / "side-by-side-2d.json"
 # side-by-side-2d (mu 0.5): frictional 23/61, associative 7/17; closed forms in the docstring of
 # scenes/builders.side_by_side (outside limit/). 23/61 = (0.6*0.3*0.5 + 0.2*0.2*1.25/2) / (0.2*1.25/2 + 0.6*0.3).
 ALPHA_NLP, ALPHA_LP = 23 / 61, 7 / 17
+
+
+def _run_solve(capsys, *args):
+    """``limit`` with ``args`` in this process: (returncode, stdout, stderr) as of a subprocess."""
+    import types
+
+    code = main(list(args))
+    out = capsys.readouterr()
+    return types.SimpleNamespace(returncode=code, stdout=out.out, stderr=out.err)
 
 
 def _strict_load(path):
@@ -23,12 +32,12 @@ def _strict_load(path):
     return json.loads(path.read_text(), parse_constant=no_constant)
 
 
-def test_solve_json_keys_and_values(tmp_path):
+def test_solve_json_keys_and_values(tmp_path, capsys):
     """Exit 0; the contract keys of the result file, nothing private ('_' keys); side-by-side-2d has
     3 blocks (base, A, B), 2 free, 3 interfaces (base|A, base|B, A|B); LP 7/17, NLP 23/61; the LP
     mechanism has [ux, uy, rz] per free block."""
     out = tmp_path / "r.json"
-    p = run_module("limit", "solve", SIDE, "--json", out)
+    p = _run_solve(capsys, "solve", str(SIDE), "--json", str(out))
     assert p.returncode == 0, p.stderr
     r = _strict_load(out)
     assert set(r) == {"scene", "dim", "n_blocks", "n_free_blocks", "n_interfaces", "lp", "nlp", "units"}
@@ -120,15 +129,14 @@ def test_solve_rejects_bad_choices(args, option, capsys):
 
 
 @pytest.mark.parametrize("extra,cone", [((), "4-face circumscribed"), (("--slide-faces", "24"), "24-face inscribed")])
-def test_the_lp_line_names_the_3d_friction_cone(extra, cone):
+def test_the_lp_line_names_the_3d_friction_cone(extra, cone, capsys):
     """The summary's LP line says which friction cone a 3D LP used (the paper model's default 4
     circumscribed faces, or what --slide-faces asks for); a 2D LP line names none."""
-    r = run_module("limit", "solve", ROOT / "scenes" / "catalog" / "wall-out-of-plane-3d.json", "--method", "lp",
-                   *extra)
-    assert r.returncode == 0, r.stderr
-    assert f"paper interfaces, {cone} friction cone)" in r.stdout
-    r2 = run_module("limit", "solve", SIDE, "--method", "lp")
-    assert "paper interfaces)" in r2.stdout and "friction cone" not in r2.stdout
+    assert main(["solve", str(ROOT / "scenes" / "catalog" / "block-rocking-3d.json"), "--method", "lp", *extra]) == 0
+    assert f"paper interfaces, {cone} friction cone)" in capsys.readouterr().out
+    assert main(["solve", str(SIDE), "--method", "lp"]) == 0
+    out = capsys.readouterr().out
+    assert "paper interfaces)" in out and "friction cone" not in out
 
 
 def test_solve_keeps_its_result_in_the_cache(tmp_path, write_scene, monkeypatch, capsys):

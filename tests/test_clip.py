@@ -69,6 +69,7 @@ def check_against_shapely(A, B, tol=TOL):
     return res
 
 
+@pytest.mark.slow  # about 3-7 s: many nearly parallel pairs against shapely
 def test_nearly_parallel_edges_against_shapely():
     """2000 pairs sharing an edge line up to a tilt of 1e-12 to 1e-4 rad and an offset of -0.5 to 2 tol."""
     rng = np.random.default_rng(21)
@@ -79,6 +80,7 @@ def test_nearly_parallel_edges_against_shapely():
     assert 200 < n_area < 1900  # both outcomes (an area, no area) occur
 
 
+@pytest.mark.slow  # about 3 s: random convex pairs against shapely
 def test_random_convex_pairs_against_shapely():
     """1000 random convex pairs (3 to 8 vertices), and each polygon against itself turned by 1e-12 to
     1e-4 rad about a random point (every edge nearly parallel to one of the other's)."""

@@ -100,8 +100,11 @@ def arch_geometry(n, R, t, span_deg):
     return J, np.array(C), np.array(W)
 
 
+# the two 9-voussoir cases take about 5-9 s each (the null-space search over 210 hinge sets)
 @pytest.mark.parametrize("n, R, t, span", [(3, 1.0, 0.3, 180.0), (5, 1.0, 0.15, 180.0), (7, 1.5, 0.2, 120.0),
-                                           (9, 1.0, 0.15, 180.0), (9, 1.0, 0.25, 150.0), (6, 2.0, 0.18, 160.0)])
+                                           pytest.param(9, 1.0, 0.15, 180.0, marks=pytest.mark.slow),
+                                           pytest.param(9, 1.0, 0.25, 150.0, marks=pytest.mark.slow),
+                                           (6, 2.0, 0.18, 160.0)])
 def test_arch_hinge_alpha_matches_nullspace_search(n, R, t, span):
     """Same least alpha (rel 1e-9) and same hinges from both searches, on arches of 3 to 9 voussoirs."""
     J, C, W = arch_geometry(n, R, t, span)
@@ -113,8 +116,9 @@ def test_arch_hinge_alpha_matches_nullspace_search(n, R, t, span):
     assert arch_reference(n, R, t, span) == pytest.approx(alpha, rel=1e-9)
 
 
-@pytest.mark.parametrize("name, n, R, t, span", [("arch-semicircular-9-2d", 9, 1.0, 0.15, 180.0),
-                                                 ("arch-segmental-7-3d", 7, 1.5, 0.2, 120.0)])
+@pytest.mark.parametrize("name, n, R, t, span", [  # the 9-voussoir search: about 2 s
+    pytest.param("arch-semicircular-9-2d", 9, 1.0, 0.15, 180.0, marks=pytest.mark.slow),
+    ("arch-segmental-7-3d", 7, 1.5, 0.2, 120.0)])
 def test_catalog_arch_reference(name, n, R, t, span):
     """The catalog's expected alpha of its two small arches (from arch_reference, rounded to 1e-10)
     equals the null-space search on the same geometry (builders.arch: R = 1.0, t = 0.15, 180 deg;

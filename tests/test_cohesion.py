@@ -23,7 +23,7 @@ def _glued(dim, model="paper", **joint):
     return d
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.slow)])  # about 1.5-2.5 s each
 @pytest.mark.parametrize("model", ["paper", "vertex"])
 def test_a_glued_block_slides_at_mu_plus_cA_over_W(dim, model):
     """Sliding on a joint with cohesion: alpha W = mu W + c A, alpha = mu + c A / W. 2D: W =
@@ -48,7 +48,7 @@ def _tall(dim, **joint):
     return d
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.slow)])  # 3D: about 3 s
 def test_tensile_strength_raises_overturning_to_b_over_h_times_1_plus_ftA_over_W(dim):
     """Overturning about the toe with uniform tension ft over the base: moments about the toe,
     alpha W h/2 = W b/2 + ft A b/2, so alpha = (b/h)(1 + ft A / W). 2D: W = 7,848 N, A = 0.4 m^2;
@@ -149,8 +149,8 @@ def test_the_independent_routes_carry_the_cohesion():
     assert res["nlp"]["iterative_lp"]["alpha"] == pytest.approx(want, rel=1e-6)
 
 
-@pytest.mark.parametrize("dim", [2, 3])
-@pytest.mark.parametrize("model", ["paper", "vertex"])
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.slow)])  # about 2 s each
+@pytest.mark.parametrize("model", ["paper", pytest.param("vertex", marks=pytest.mark.slow)])
 def test_radenkovic_bound_of_a_glued_block_is_its_friction_free_slide(dim, model):
     """The lower bound (paper, section 3; limit/solve/radenkovic.py): the associative collapse of
     the joint with friction removed and the least sliding strength c' A, c' = c - mu ft' with

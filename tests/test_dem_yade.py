@@ -1,4 +1,6 @@
-"""DEM pushover in YADE against closed forms, and every DEM fault reported as failed.
+"""DEM pushover in YADE against closed forms, and YADE's own faults reported as failed (the
+runner's handling of bad input and of a missing, crashing or hung engine, with no YADE:
+tests/test_dem_runner.py).
 
 These tests run YADE (``make test`` installs it); they never skip. They use the
 default vertex-to-face block model unless they say otherwise. Closed forms
@@ -19,9 +21,7 @@ the project's own frictional (NLP) limit analysis within 5 %.
 import json
 import math
 import os
-import stat
 import threading
-import time
 
 from pathlib import Path
 
@@ -38,7 +38,7 @@ from limit.model.loads import dead_and_live
 from limit.model.scene import load_scene
 from scenes import builders as B
 
-from tests.conftest import ROOT, run_module
+from tests.conftest import ROOT, run_module, single_block_job
 
 pytestmark = pytest.mark.yade
 RTOL = 0.02        # rocking
@@ -147,7 +147,7 @@ def test_vertex_law_takes_torques_about_the_contact_points(tmp_path):
         "out = os.path.join(os.path.dirname(sys.argv[1]), job['result'])\n"
         "json.dump({'status': 'done', 'runs': [], 'spherical': bool(m.law.sphericalBodies)}, open(out, 'w'))\n"
         "os._exit(0)\n")
-    res = run_job(_job(), script=script, timeout_s=120)
+    res = run_job(single_block_job(), script=script, timeout_s=120)
     assert res["status"] == "done" and res["spherical"] is False
 
 
@@ -263,144 +263,28 @@ def test_polyhedra_model_is_still_available():
     assert dem["alpha"] == pytest.approx(0.3, rel=RTOL_SLIDE)
 
 
-# ----------------------------------------------------------------------------- bad input
-
-def test_bad_scene_exits_2_with_one_line(tmp_path, write_scene):
-    data = B.single_block(2)
-    data["blocks"][1]["box"]["size"] = [0.3, float("nan")]
-    scene = write_scene(json.dumps(data))  # NaN in the file
-    out = tmp_path / "out.json"
-    proc = run_module("dem_validation", "run", scene, "--json", out)
-    assert proc.returncode == 2
-    assert len(proc.stderr.strip().splitlines()) == 1 and "non-finite" in proc.stderr
-    assert not out.exists()
-
-
-def test_bad_knob_exits_2(tmp_path, write_scene):
-    proc = run_module("dem_validation", "run", write_scene(B.single_block(2)), "--set", "damping=3")
-    assert proc.returncode == 2 and "damping" in proc.stderr and "Traceback" not in proc.stderr
-
-
 # ----------------------------------------------------------------------------- DEM faults
+# (the runner's own handling of a missing, crashing, hung or busy engine, with a fake one:
+# tests/test_dem_runner.py)
 
-def _job(**knobs):
-    scene = load_scene(B.single_block(2, 0.3, 1.0, mu=0.8))
-    f0, fL = dead_and_live(scene)
-    return build_job(scene, find_interfaces(scene), f0, fL, P.check(knobs))
-
-
-def _fake_yade(tmp_path, body):
-    exe = tmp_path / "yade"
-    exe.write_text("#!/bin/sh\n" + body + "\n")
-    exe.chmod(exe.stat().st_mode | stat.S_IEXEC)
-    return str(exe)
-
-
-def test_yade_missing_is_failed(tmp_path, monkeypatch):
-    dem = run_scene(B.single_block(2), yade=str(tmp_path / "no-such-yade"))
-    assert dem["status"] == "failed" and "not found" in dem["reason"] and dem.get("alpha") is None
-    monkeypatch.setenv("PATH", str(tmp_path))  # no yade on PATH
-    monkeypatch.delenv("DEM_YADE", raising=False)
-    dem = run_scene(B.single_block(2))
-    assert dem["status"] == "failed" and "not found" in dem["reason"]
-
-
-def test_yade_crash_is_failed(tmp_path):
-    # a job the YADE script cannot use: YADE's Python raises, YADE exits 1
-    job = _job()
+def test_yade_crash_is_failed():
+    """A job the YADE script cannot use: YADE's Python raises, YADE exits 1."""
+    job = single_block_job()
     del job["blocks"][1]["vertices"]
     res = run_job(job, timeout_s=120)
     assert res["status"] == "failed" and "exited with status 1" in res["reason"] and "vertices" in res["reason"]
-    # a crash by a signal
-    res = run_job(job, yade=_fake_yade(tmp_path, "kill -SEGV $$"), timeout_s=60)
-    assert res["status"] == "failed" and "SIGSEGV" in res["reason"]
 
 
-def test_yade_hang_past_the_time_limit_is_failed_and_killed(tmp_path):
-    pidfile = tmp_path / "pid"
-    exe = _fake_yade(tmp_path, f"echo $$ > {pidfile}; sleep 60 & wait")
-    t0 = time.monotonic()
-    res = run_job(_job(), yade=exe, timeout_s=2)
-    assert time.monotonic() - t0 < 20
-    assert res["status"] == "failed" and "timed out" in res["reason"]
-    pid = int(pidfile.read_text())
-    with pytest.raises(ProcessLookupError):
-        os.kill(pid, 0)  # the whole process group is gone
-    # the real YADE stopped by a time limit shorter than the run
+def test_yade_stopped_by_its_time_limit_is_failed():
+    """The real YADE stopped by a time limit shorter than the run."""
     dem = run_scene(B.running_bond_wall(6, 5, dim=2, mu=0.65), timeout_s=4)  # a stack now ends in < 4 s
     assert dem["status"] == "failed" and "timed out" in dem["reason"] and dem.get("alpha") is None
     assert 0 < dem["cpu_s"] <= dem["time_s"] + 1.0  # the CPU it had used when it was killed
 
 
-def test_cpu_limit_counts_the_engines_own_cpu(tmp_path):
-    """``cpu_limit_s``: an engine that computes (a busy loop) is killed once it has used the
-    limit's CPU seconds, well before the wall-clock limit; one that waits uses no CPU and runs
-    on until the wall-clock limit (the guard against a hung engine)."""
-    exe = _fake_yade(tmp_path, "while :; do :; done")
-    t0 = time.monotonic()
-    res = run_job(_job(), yade=exe, timeout_s=60, cpu_limit_s=2.0)
-    assert time.monotonic() - t0 < 30
-    assert res["status"] == "failed" and "CPU limit 2 s" in res["reason"] and res["cpu_s"] >= 2.0
-    idle = _fake_yade(tmp_path, "sleep 60 & wait")
-    res = run_job(_job(), yade=idle, timeout_s=3, cpu_limit_s=2.0)
-    assert res["status"] == "failed" and "timed out" in res["reason"] and res["cpu_s"] < 2.0
-
-
-def test_an_engine_that_uses_no_cpu_is_killed_as_hung(tmp_path):
-    """``hang_s``: an engine that waits (no CPU) is killed once it has used less than HANG_CPU_S of
-    CPU for hang_s seconds, long before the wall-clock limit; one that computes is not (it runs on
-    to its CPU limit)."""
-    from dem_validation import runner
-
-    idle = _fake_yade(tmp_path, "sleep 60 & wait")
-    t0 = time.monotonic()
-    res = run_job(_job(), yade=idle, timeout_s=60, hang_s=2.0)
-    assert time.monotonic() - t0 < 30
-    assert res["status"] == "failed" and res["reason"].startswith("hung") and res["cpu_s"] < runner.HANG_CPU_S
-    busy = _fake_yade(tmp_path, "while :; do :; done")
-    res = run_job(_job(), yade=busy, timeout_s=60, hang_s=2.0, cpu_limit_s=5.0)
-    assert res["status"] == "failed" and "CPU limit 5 s" in res["reason"] and res["cpu_s"] >= 5.0
-
-
-def test_a_killed_run_keeps_its_progress_for_the_diagnosis(tmp_path):
-    """A run killed at its limit keeps the progress records it sent: each phase's first (every
-    new stiffness), the one before it (how far the phase before got) and the last ones, in order,
-    so that a report can say how far it got."""
-    recs = [{"phase": "stiffness", "eps": 1e-4}, {"eps": 1e-4, "alpha": 0.05, "step": 10},
-            {"phase": "load", "alpha": 0.1}, {"eps": 1e-4, "alpha": 0.15, "step": 20},
-            {"eps": 1e-4, "alpha": 0.2, "step": 30}, {"phase": "stiffness", "eps": 1e-5},
-            {"phase": "load", "alpha": 0.3}]
-    lines = "; ".join(f"echo 'DEMPROGRESS {json.dumps(r)}'" for r in recs)
-    exe = _fake_yade(tmp_path, lines + "; while :; do :; done")
-    res = run_job(_job(), yade=exe, timeout_s=60, cpu_limit_s=1.0)
-    assert res["status"] == "failed" and "CPU limit" in res["reason"]
-    assert res["progress"]["last"] == recs
-    assert res["progress"]["phases"] == [recs[0], recs[1], recs[2], recs[4], recs[5], recs[6]]
-    from dem_validation.api import assemble
-    from dem_validation.lmgc import assemble_rigid
-
-    assert assemble(res, {})["progress"] == assemble_rigid(res)["progress"] == res["progress"]  # kept in the stage result
-
-
-def test_validation_stages_limit_cpu_and_wall_clock():
-    """reports.stages: the DEM and LMGC90 stages carry a CPU limit of at least DEM_CPU_LIMIT /
-    LMGC_CPU_LIMIT and COST_FACTOR x the scene's measured cost, a wall-clock guard WALL_FACTOR
-    times that, and a scene's meta.dem replaces either."""
-    from reports import stages
-
-    d = stages.dem_options({})
-    assert (d["cpu_limit_s"], d["timeout_s"]) == (stages.DEM_CPU_LIMIT, stages.WALL_FACTOR * stages.DEM_CPU_LIMIT)
-    big = stages.DEM_CPU_LIMIT  # a scene whose measured cost is the floor itself
-    d = stages.dem_options({"meta": {"dem": {"cost_s": big}}})
-    assert d["cpu_limit_s"] == stages.COST_FACTOR * big > stages.DEM_CPU_LIMIT
-    lm = stages.lmgc_options({"meta": {"lmgc": {"cost_s": 1.0}}})
-    assert lm["cpu_limit_s"] == stages.LMGC_CPU_LIMIT < lm["timeout_s"]
-    own = stages.dem_options({"meta": {"dem": {"cpu_limit_s": 10.0, "timeout_s": 20.0, "cost_s": 1e4}}})
-    assert (own["cpu_limit_s"], own["timeout_s"]) == (10.0, 20.0)
-
-
 def test_nan_in_the_simulation_is_failed():
-    job = _job()
+    job = single_block_job()
     job["f0"][0][0] = float("nan")  # a NaN force drives the block's position to NaN
     res = run_job(job, timeout_s=120)
     assert res["status"] == "failed" and "NaN" in res["reason"]
+

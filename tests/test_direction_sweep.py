@@ -30,6 +30,7 @@ def test_square_block_follows_the_closed_form_and_mirror_halves_the_work():
     assert np.allclose(half["alpha"], out["alpha"], rtol=1e-7)
 
 
+@pytest.mark.slow  # about 15 s: starts a Dask cluster
 def test_dask_workers_give_the_in_process_answers(monkeypatch):
     """The Dask path (forced: no start-up cost assumed) against the in-process sweep."""
     import limit.direction_sweep as ds
@@ -70,6 +71,7 @@ def test_the_minimum_is_given_as_a_global_direction():
     assert out["alpha"][0] == pytest.approx(0.6, rel=1e-6)
 
 
+@pytest.mark.slow  # about 5 s: step 2 in every direction
 def test_frictional_sweep_runs_step_2_in_every_direction(tmp_path):
     """``every``: step 2 in each direction. A block b = 0.3 (x) by t = 0.8 (y) by h = 1, mu 0.5:
     along +-x it overturns at b/h = 0.3; along +-y overturning needs t/h = 0.8, so it slides at
@@ -101,6 +103,7 @@ def test_the_frictional_minimum_is_told_apart_only_when_lower():
     assert _worse_elsewhere(out)
 
 
+@pytest.mark.slow  # about 13 s: step 2 in four directions on a 3D wall
 def test_the_frictional_worst_direction_is_not_the_lps():
     """The catalog's 3 x 3 running-bond wall (wall-3x3-opening-2d) built in 3D, 0.6 m thick, 1.2 m
     high, mu 1.2, swept every 90 degrees with step 2 in each direction.

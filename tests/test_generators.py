@@ -408,6 +408,7 @@ def test_default_scene_is_sound(kind):
 # limit build
 
 
+@pytest.mark.slow  # about 3 s: limit build end to end in subprocesses
 def test_build_writes_a_scene(tmp_path):
     """Exit 0, the file is the generator's dict for the same parameters."""
     out = tmp_path / "a.json"
@@ -424,11 +425,11 @@ def test_build_writes_a_scene(tmp_path):
     assert load_scene(out).n_blocks == len(json.loads(out.read_text())["blocks"])
 
 
-@pytest.mark.parametrize("args, start", [
+@pytest.mark.parametrize("args, start", [  # a subprocess each, about 1 s
     (["arch", "--kind", "pointed", "--n", "7"], "error: n:"),
-    (["wall", "--length", "x"], "error: --length:"),
-    (["dome", "--meridians", "2"], "error: meridians:"),
-    (["wall", "--opening", "0.4", "0.8"], "error: --opening:")])
+    pytest.param(["wall", "--length", "x"], "error: --length:", marks=pytest.mark.slow),
+    pytest.param(["dome", "--meridians", "2"], "error: meridians:", marks=pytest.mark.slow),
+    pytest.param(["wall", "--opening", "0.4", "0.8"], "error: --opening:", marks=pytest.mark.slow)])
 def test_build_bad_option_exit_2(tmp_path, args, start):
     p = run_module("limit", "build", *args, "-o", tmp_path / "x.json")
     assert p.returncode == 2

@@ -30,8 +30,10 @@ def _pier_chain(d):
     return right + [f"v{k}" for k in range(n)] + left
 
 
-@pytest.mark.parametrize("kw", [dict(kind="semicircular", n=7), dict(kind="pointed", n=6),
-                                dict(kind="segmental", n=7, rise=0.6)], ids=lambda kw: kw["kind"])
+@pytest.mark.parametrize("kw", [pytest.param(dict(kind="semicircular", n=7), marks=pytest.mark.slow),  # about 3 s
+                                dict(kind="pointed", n=6),
+                                pytest.param(dict(kind="segmental", n=7, rise=0.6), marks=pytest.mark.slow)],
+                         ids=lambda kw: kw["kind"])
 def test_arch_on_piers_four_hinge(kw):
     """The LP's alpha equals the least four-hinge mechanism of the chain base | pier courses |
     skewback | voussoirs | skewback | pier courses | base (hinges at either end of any four
@@ -42,6 +44,7 @@ def test_arch_on_piers_four_hinge(kw):
     assert _lp(d) == pytest.approx(ref["alpha"], rel=1e-6)
 
 
+@pytest.mark.slow  # about 2 s: the LP of a 3D arch on piers
 def test_arch_on_piers_3d_meets_2d_reference():
     """The 3D arch is the 2D one extruded along y and loaded in its plane: the same four-hinge alpha."""
     d2 = G.arch("pointed", n=6, pier_courses=2)

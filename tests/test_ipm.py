@@ -18,6 +18,7 @@ from limit.model.assemble import Options, assemble
 from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes.catalog import catalog_files
+from tests.conftest import catalog_params
 
 CATALOG = catalog_files()
 
@@ -29,7 +30,7 @@ def _both(P):
 
 
 @pytest.mark.parametrize("model", ["paper", "vertex"])
-@pytest.mark.parametrize("path", CATALOG, ids=[p.stem for p in CATALOG])
+@pytest.mark.parametrize("path", catalog_params(CATALOG))  # a catalog sweep: FAST_CATALOG in the fast subset
 def test_same_alpha_as_clarabel_on_catalog(path, model):
     d = json.loads(path.read_text())
     if model == "vertex" and any(j.get("fc") for j in d.get("joints", [])):  # crushing: the paper's model only
@@ -49,7 +50,7 @@ def test_same_alpha_as_clarabel_on_catalog(path, model):
         assert attempts[0]["alpha"] < 0
 
 
-@pytest.mark.parametrize("dim,n", [(2, 1000), (3, 300)])
+@pytest.mark.parametrize("dim,n", [pytest.param(2, 1000, marks=pytest.mark.slow), (3, 300)])  # 2D 1,000 blocks: about 3 s
 def test_same_alpha_as_clarabel_on_large_walls(dim, n):
     """Walls where the reduced system becomes ill-conditioned near the optimum (iterative refinement at work)."""
     side = int(round(math.sqrt(n)))

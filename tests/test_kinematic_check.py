@@ -116,7 +116,7 @@ def test_two_blocks_turning_together_about_the_base_toe():
     assert out["d0"] == pytest.approx(b / 2 * (1 - math.cos(t0)) + 1.5 * h * math.sin(t0), rel=1e-6)
 
 
-@pytest.mark.parametrize("case", ["block", "wall"])
+@pytest.mark.parametrize("case", ["block", pytest.param("wall", marks=pytest.mark.slow)])  # wall: about 11 s
 def test_3d_rocking_follows_the_tan_closed_form(case):
     """3D: a block b x h (depth 0.5) turning about its base edge, and the catalog's running-
     bond wall (24 blocks, t = 0.2 m, H = 1.05 m, loaded out of plane) turning as one body

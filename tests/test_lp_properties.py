@@ -11,12 +11,13 @@ from limit.model.scene import load_scene
 from scenes import builders as B
 from scenes.catalog import catalog_files
 from scenes.transform import random_rotation, reorder, transform
+from tests.conftest import catalog_params
 from tests.lp_helpers import lp_alpha
 
 CATALOG = catalog_files()
 
 
-@pytest.mark.parametrize("path", CATALOG, ids=[p.stem for p in CATALOG])
+@pytest.mark.parametrize("path", catalog_params(CATALOG))  # a catalog sweep: FAST_CATALOG in the fast subset
 def test_static_equals_kinematic_on_catalog(path):
     d = json.loads(path.read_text())
     if d["name"] == "paper-fig2a-double-arch-2d":

@@ -40,8 +40,8 @@ def test_malformed_file(name, command, tmp_path, capsys):
     assert (code, len(lines), "Traceback" in err, EXPECTED[name] in err, out.exists()) == (2, 1, False, True, False), err
 
 
-@pytest.mark.parametrize("name", ["truncated.json", "nan_coordinate.json", "overlapping_blocks_3d.json",
-                                  "no_fixed_block.json"])
+@pytest.mark.parametrize("name", ["truncated.json"] + [pytest.param(n, marks=pytest.mark.slow) for n in (  # 4-5 s each
+    "nan_coordinate.json", "overlapping_blocks_3d.json", "no_fixed_block.json")])
 def test_malformed_subprocess(name, tmp_path):
     out = tmp_path / "r.json"
     for module, args in (("limit", ["solve", CORPUS / name, "--json", out]),

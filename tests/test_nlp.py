@@ -28,7 +28,7 @@ def test_single_block_sliding_nlp_equals_lp_equals_mu(dim):
     assert res["nlp"]["alpha"] == pytest.approx(mu, rel=1e-6)
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.slow)])  # 3D: about 2.5 s
 def test_rocking_and_sliding_combined(dim):
     """NLP < LP; the same value from the closed form, the global MILP and the iterative LP (to 1e-4)."""
     d = B.side_by_side(dim=dim, mu=0.5)
@@ -217,6 +217,7 @@ def test_iterative_lp_on_pure_sliding_block():
     assert it["alpha"] == pytest.approx(0.3, rel=1e-6)
 
 
+@pytest.mark.slow  # about 15 s: step 2 and the iterative LP on the 30-block 3D wall
 def test_3d_wall_nlp_starts_from_an_interior_point_lp_answer():
     """The 6 x 5 running-bond 3D wall (mu = 0.65): the LP answer (Clarabel, interior point) meets
     equilibrium only to its tolerance; phase 1 once re-imposed it on the fixed stresses and HiGHS
@@ -229,6 +230,7 @@ def test_3d_wall_nlp_starts_from_an_interior_point_lp_answer():
     assert res["iterative_lp"]["alpha"] == pytest.approx(res["alpha"], rel=1e-4)
 
 
+@pytest.mark.slow  # about 10 s: the full restart plan besides the budgeted run
 def test_time_budget_stops_restarts_but_keeps_a_verified_answer():
     """With a budget already spent, no restart begins once the first run is verified: the answer
     is that run's (verified, never above the LP), and the full plan can only do better (here it

@@ -52,6 +52,7 @@ def test_fig2_textures_fail_and_carry_as_in_the_paper():
     assert b["nlp"]["alpha"] >= 0.8 * b["lp"]["alpha"]
 
 
+@pytest.mark.slow  # about 6 s: steps 1 and 2 on the 25-, 40- and 70-stone walls
 def test_fig3_polygonal_walls_below_the_monolith_and_lp_acceptable():
     """Fig. 3: the wall cannot beat the monolith's overturning W/H = 0.8 and, as the paper
     found, the LP answer is acceptable: the frictional NLP stays within 5 % of it."""
@@ -62,6 +63,7 @@ def test_fig3_polygonal_walls_below_the_monolith_and_lp_acceptable():
         assert res["nlp"]["alpha"] == pytest.approx(res["lp"]["alpha"], rel=0.05)
 
 
+@pytest.mark.slow  # about 3 s: steps 1 and 2 on the Fig. 4 wall
 def test_fig4_opus_africanum_steps_differ():
     """Fig. 4: 'the solutions of the two steps of programming are quite different'."""
     res = analyse(_catalog("paper-fig4-opus-africanum-2d"), method="nlp")
@@ -81,6 +83,7 @@ def test_fig5_trilithic_near_the_paper_and_the_sway_bound():
     assert len(ry) == 6 and min(ry) > 0 and max(ry) / min(ry) < 1.03
 
 
+@pytest.mark.slow  # about 11 s: steps 1 and 2 on the full and the half fountain, and two 16-face LPs
 def test_fig7_half_model_matches_the_full_one():
     """Fig. 7: the half model with the mirror-plane constraints gives the full model's
     alpha. NLP: equal. LP: the paper's 4-face friction pyramid is oriented by each

@@ -80,7 +80,7 @@ def test_sliding_and_rocking_blocks_give_their_closed_forms(dim):
         assert st.alpha == pytest.approx(alpha, abs=1e-7), st.note
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.slow)])  # 3D: about 4 s
 def test_the_same_minimum_as_the_simplex_or_no_answer_where_it_has_none(dim):
     """Flowing sets of a verified step-2 point (both snap rules), of the LP's mechanism and 12
     random ones: where HiGHS finds the minimum the interior point gives it to 1e-7; where HiGHS

@@ -48,8 +48,10 @@ def test_the_line_shows_each_engines_latest_record(tmp_path):
     assert line.endswith("left") and "about" in line
 
 
-def test_the_line_is_shown_while_stages_run(tmp_path):
-    """A stage handed to the cluster is 'waiting' until its worker begins it (its progress file)."""
+def test_the_line_is_shown_while_stages_run(tmp_path, monkeypatch):
+    """A stage handed to the cluster is 'waiting' until its worker begins it (its progress file).
+    The board refreshes every 0.4 s here instead of every REFRESH_S."""
+    monkeypatch.setattr(prog, "REFRESH_S", 0.4)
     shown = []
     board = prog.Board(tmp_path, slots=1, show=shown.append)
     board.start("la", "dome", 5.0)

@@ -78,6 +78,7 @@ def reverify(P, sol):
         assert sol.alpha >= -verify.TOL_GAP
 
 
+@pytest.mark.slow  # about 4 s: the LP on random scenes, moved, scaled and reordered
 @SETTINGS
 @given(scenes(), st.integers(0, 2**31 - 1), units)
 def test_alpha_invariant_to_rigid_motion_scale_and_order(d, seed, s):
@@ -113,6 +114,7 @@ def check_status(sol, d, tally):
         assert sol.status == "infeasible", (sol.status, sol.reason)
 
 
+@pytest.mark.slow  # about 4 s: the LP on random scenes at several mu
 def test_lp_alpha_non_decreasing_in_mu():
     """A larger mu enlarges the static LP's feasible set, so alpha(mu * factor) >= alpha(mu)
     (unbounded stays unbounded; optimal cannot become infeasible). Failed solves are bounded
@@ -144,6 +146,7 @@ def test_lp_alpha_non_decreasing_in_mu():
     assert both >= 0.8 * len(pairs), (both, len(pairs), tally)
 
 
+@pytest.mark.slow  # about 3-5 s: the static and kinematic LPs on random scenes
 @SETTINGS
 @given(scenes())
 def test_static_equals_kinematic(d):
@@ -158,6 +161,7 @@ def test_static_equals_kinematic(d):
         assert kin.status == "unbounded"  # no mechanism: the kinematic LP is infeasible
 
 
+@pytest.mark.slow  # about 35 s: steps 1 and 2 on 60 random scenes
 def test_nlp_never_above_lp_and_verified():
     """The NLP (non-associative) alpha is at most the LP's, and its end point is verified
     (equilibrium <= verify.TOL_EQ, complementarity <= 1e-6). At most MAX_FAILED NLP runs may

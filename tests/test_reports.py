@@ -34,6 +34,7 @@ def monkeypatch_module():
     mp.undo()
 
 
+@pytest.mark.slow  # the validation run end to end (its module fixture: about 30 s)
 def test_run_completes_and_writes_everything(run):
     """Every DEM stage failed (YADE missing): the run still writes everything, lists each failed
     stage at the end and exits with status 1; without the DEM nothing failed, and the status is 0."""
@@ -54,6 +55,7 @@ def test_run_completes_and_writes_everything(run):
         assert (out / f).exists(), f
 
 
+@pytest.mark.slow  # the validation run end to end (its module fixture: about 30 s)
 def test_table_matches_cached_results(run):
     tmp, _, _ = run
     df = pd.read_csv(tmp / "out" / "results.csv")
@@ -72,6 +74,7 @@ def test_table_matches_cached_results(run):
             assert pd.isna(r.ref_alpha)
 
 
+@pytest.mark.slow  # the validation run end to end (its module fixture: about 30 s)
 def test_report_shows_every_scene_and_its_numbers(run):
     tmp, _, _ = run
     df = pd.read_csv(tmp / "out" / "results.csv")
@@ -83,6 +86,7 @@ def test_report_shows_every_scene_and_its_numbers(run):
         assert format(r.lp_alpha, ".4g") in md
 
 
+@pytest.mark.slow  # the validation run end to end (its module fixture: about 30 s)
 def test_published_value_beside_ours_with_the_reason(run):
     """The paper's Fig. 5 gives alpha = 0.086 (LP): the table carries it and the difference
     from our LP, the report shows it with the scene's explanation."""
@@ -97,6 +101,7 @@ def test_published_value_beside_ours_with_the_reason(run):
         assert meta["note"][:60] in text.replace("&#x27;", "'")
 
 
+@pytest.mark.slow  # the validation run end to end (its module fixture: about 30 s)
 def test_dem_fault_is_failed_in_red_and_not_cached(run):
     tmp, args, _ = run
     df = pd.read_csv(tmp / "out" / "results.csv")
@@ -122,6 +127,7 @@ def test_dem_fault_is_failed_in_red_and_not_cached(run):
         assert str(p) in log
 
 
+@pytest.mark.slow  # the validation run end to end (its module fixture: about 30 s)
 def test_cache_reused_and_changed_scene_recomputed(run, tmp_path, capsys):
     tmp, args, _ = run
     from reports.cache import Cache
@@ -164,6 +170,7 @@ def test_similarity_is_scale_free():
     assert table.similarity(s, m, None) != table.similarity(s, m, None)  # nan
 
 
+@pytest.mark.lmgc90
 def test_failure_copy_that_cannot_be_written_does_not_stop_the_run(tmp_path, monkeypatch, capsys):
     from reports.cache import Cache
 
@@ -256,7 +263,7 @@ def test_dem_model_text_says_how_the_rounding_was_treated():
     assert "corrected for the rounding" in fitted and "taken as it is" not in fitted
 
 
-@pytest.mark.parametrize("deg", [0.0, 45.0])
+@pytest.mark.parametrize("deg", [0.0, pytest.param(45.0, marks=pytest.mark.slow)])  # about 2 s each
 def test_friction_model_stage_beside_the_papers(tmp_path, deg):
     """A squat 1 x 1 x 0.5 block (mu = 0.4) slides under a horizontal load at ``deg`` to x.
     Coulomb's circular cone gives alpha = mu in every direction. The paper's 4 faces
@@ -351,6 +358,7 @@ def test_lmgc_disagreement_names_the_known_causes():
     assert len(close) == 1  # within 2 %: no explanation needed
 
 
+@pytest.mark.slow  # about 5 s: step 2 on three catalog scenes and the report's worked example
 def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
     """The report's verdicts: the catalog scenes stating a demand (the 3D out-of-plane wall
     and the 2D portal, ag = 0.2 g, S = 1.2, q = 2: ag S / q = 0.2 9.81 1.2 / 2 = 1.1772 m/s^2 by

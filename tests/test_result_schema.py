@@ -39,6 +39,7 @@ def results(tmp_path_factory):
     return out
 
 
+@pytest.mark.slow  # about 4-6 s: its module fixture solves catalog scenes through the command line
 @pytest.mark.parametrize("name,opts,lp_status,nlp_status", CASES, ids=[c[0] for c in CASES])
 def test_catalog_results_validate(name, opts, lp_status, nlp_status, results, validate):
     res = results[name]
@@ -70,6 +71,7 @@ BROKEN = {
 }
 
 
+@pytest.mark.slow  # its module fixture solves catalog scenes through the command line (about 4-6 s)
 @pytest.mark.parametrize("fault", BROKEN)
 def test_broken_results_fail(fault, results, validate):
     res = _optimal_lp(results)

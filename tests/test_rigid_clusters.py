@@ -61,7 +61,7 @@ def test_a_stack_overturning_as_one_is_one_cluster_moving_rigidly():
     assert np.allclose(u[:, 1] - u[0, 1], w * (c[:, 0] - c[0, 0]), atol=1e-9 * abs(w))
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.slow)])  # 3D: about 2 s
 def test_feasible_exactly_where_the_flow_lp_on_every_dof_is(dim):
     """Flowing sets: those of a verified frictional collapse state (step 2), of the LP mechanism
     (dilatant: no mechanism with the non-associative flow), every face, and random ones. Where

@@ -29,8 +29,8 @@ def arch_reference():
     """The four-hinge alpha of the arch, independent of limit/: the value that
     scenes.catalog stored in arch-semicircular-27-2d.json (``expected``, from
     ``arch_reference(27, 1.0, 0.15)`` rounded to 10 digits). Recomputing it takes about 50 s;
-    tests/test_catalog.py::test_catalog_json_matches_builders (marked slow) checks the file
-    against the builders, and so this value against the four-hinge search."""
+    tests/test_catalog.py::test_stored_four_hinge_references_are_the_searches (its 27-voussoir
+    case marked slow) checks this value against the four-hinge search."""
     path = CATALOG_DIR / "arch-semicircular-27-2d.json"
     alpha = json.loads(path.read_text())["expected"]["alpha"]
     assert alpha == pytest.approx(0.14534, abs=5e-6)

@@ -246,6 +246,7 @@ def test_box_and_vertices_both(capsys, write_scene):
     check_rejected(capsys, write_scene(d), "block 'c0-0'", "exactly one of 'box', 'vertices' or 'parts'")
 
 
+@pytest.mark.slow  # about 1.5-2.5 s: limit info in a subprocess (test_malformed keeps a subprocess sample fast)
 def test_subprocess_no_traceback(write_scene):
     """The real command: exit 2, one stderr line, nothing on stdout, no JSON written."""
     p = write_scene(edited(GOOD2, lambda d: d.update(friction=-1)))
@@ -286,6 +287,7 @@ def test_unknown_keys_deep_in_the_file_name_the_block():
                     "loads.live[0].directon: unknown key (did you mean 'direction'?)"]
 
 
+@pytest.mark.slow  # about 4 s: limit solve and limit info in subprocesses
 def test_strict_makes_an_unknown_key_an_error_and_exit_2(tmp_path):
     import json
     import subprocess

@@ -40,6 +40,7 @@ def wall3d(tmp_path_factory):
     return _report(tmp, B.portal(dim=3, t=0.4, name="my-portal-3d"), "--dem", "none")
 
 
+@pytest.mark.slow  # limit report end to end
 def test_report_writes_the_page_with_the_closed_form_alpha(block2d):
     p, out = block2d
     assert p.returncode == 0, p.stderr
@@ -56,6 +57,7 @@ def test_report_writes_the_page_with_the_closed_form_alpha(block2d):
     assert (out / "my-block-2d.html").stat().st_size > 3e6  # the inlined script (about 4.6 MB)
 
 
+@pytest.mark.slow  # limit report end to end
 def test_report_reruns_from_the_cache(block2d, tmp_path):
     """An unchanged scene is not recomputed: the second run finds every stage in the cache."""
     p, out = block2d
@@ -68,6 +70,7 @@ def test_report_reruns_from_the_cache(block2d, tmp_path):
     assert "3 stage results cached, 0 to run" in q.stderr
 
 
+@pytest.mark.slow  # limit report end to end
 def test_report_of_a_glued_block_shows_the_certified_interval(tmp_path):
     """A 1.0 x 0.5 m block on a joint with mu 0.3 and c = 2,000 Pa (A = 1 m^2, W = 9,810 N):
     step 2 slides at mu + c A / W = 0.503874, the Radenkovic bound (friction removed, cohesion
@@ -81,6 +84,7 @@ def test_report_of_a_glued_block_shows_the_certified_interval(tmp_path):
            "the frictional minimum lies in [0.203874, 0.503874]." in page
 
 
+@pytest.mark.slow  # about 2-4 s: limit report in a subprocess
 def test_rejected_scene_is_one_line_exit_2(tmp_path):
     bad = B.single_block(dim=2, name="bad")
     bad["blocks"][1]["vertices"] = [[0, 0], [1, 0]]
@@ -88,6 +92,7 @@ def test_rejected_scene_is_one_line_exit_2(tmp_path):
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and p.stderr.startswith("error:")
 
 
+@pytest.mark.slow  # about 2.5 s: limit report in a subprocess
 def test_sweep_on_a_2d_scene_is_rejected(tmp_path):
     p, _ = _report(tmp_path, B.single_block(dim=2, name="flat"), "--dem", "none", "--sweep")
     assert p.returncode == 2 and "--sweep" in p.stderr
@@ -122,6 +127,7 @@ def _coloured(img) -> float:
     return float((spread > 0.25).mean())
 
 
+@pytest.mark.slow  # limit report end to end
 @pytest.mark.parametrize("which", ["block2d", "wall3d"])
 def test_page_renders_in_a_real_browser(which, request, tmp_path):
     """The view draws: no script error, plotly's SVG (2D) or WebGL canvas (3D) in the DOM, and
@@ -138,6 +144,7 @@ def test_page_renders_in_a_real_browser(which, request, tmp_path):
     assert _coloured(img) > 0.002, "no coloured blocks on the screenshot"
 
 
+@pytest.mark.slow  # limit report end to end
 def test_the_check_above_fails_on_a_broken_page(block2d, tmp_path):
     """The browser test can fail: the same page with plotly's script removed raises a script
     error and draws nothing."""

@@ -96,6 +96,7 @@ def test_the_settings_survive_the_assembly():
     assert settings.of(object()) is DEFAULT
 
 
+@pytest.mark.slow  # about 3-5 s: step 2 twice on a wall, both routes
 def test_the_large_route_threshold_sends_a_small_scene_to_the_large_route():
     """10 free blocks: below the default large_min_free (200) step 2 runs the successive LP (SLSQP
     and SLA) besides the large route and reports route 'successive-lp'; with the threshold at 1
@@ -145,6 +146,7 @@ def test_the_global_check_size_limit_is_read_from_the_settings():
 # -- the command line --------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # about 2-3 s: limit solve end to end
 def test_cli_set_overrides_a_setting_end_to_end(tmp_path, capsys):
     scene = tmp_path / "wall.json"
     scene.write_text(json.dumps(_wall()))

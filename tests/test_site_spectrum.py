@@ -98,6 +98,7 @@ def test_an_unknown_demand_key_is_warned_and_ignored_never_an_internal_error():
     assert sc.demand.S == pytest.approx(1.4625) and sc.demand.TC == pytest.approx(0.68465, abs=5e-6)
 
 
+@pytest.mark.slow  # about 4 s: limit check end to end in subprocesses
 def test_limit_check_derives_the_spectrum_from_the_site(tmp_path):
     """``limit check --ag 0.25 --F0 2.5 --Tc-star 0.3 --soil B``: the linear check's demand is
     ag S / q = 0.25 x 9.81 x 1.15 / 2 = 1.41019 m/s^2 (S = SS = 1.15 above), and the JSON's
@@ -117,6 +118,7 @@ def test_limit_check_derives_the_spectrum_from_the_site(tmp_path):
     assert bad.returncode == 2 and "--Tc-star" in bad.stderr
 
 
+@pytest.mark.slow  # about 6 s: limit check end to end in subprocesses
 def test_the_damage_check_at_ground_level_uses_the_sld_hazard_without_q(tmp_path):
     """Circolare 617/2009 C8A.4.7: a0* >= ag(SLD) S, no behaviour factor. With an explicit S = 1.2
     shared by the SLD: 0.08 x 9.81 x 1.2 = 0.94176 m/s^2 (the SLV's linear demand is 0.2 x 9.81 x

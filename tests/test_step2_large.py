@@ -51,6 +51,7 @@ def test_confined_block_3d_through_analyse():
     assert res["nlp"]["alpha"] == pytest.approx(0.625, rel=1e-6)
 
 
+@pytest.mark.slow  # about 3 s: limit solve end to end in a subprocess
 def test_cli_solve_auto_on_the_catalog_confined_block(tmp_path):
     out = tmp_path / "r.json"
     p = subprocess.run([sys.executable, "-m", "limit", "solve", "scenes/catalog/confined-block-2d.json",
@@ -70,6 +71,7 @@ def test_side_by_side_matches_the_closed_form_and_the_successive_lp():
     assert sla["alpha"] == pytest.approx(big["alpha"], rel=1e-6)
 
 
+@pytest.mark.slow  # about 4 s: the large route and the MILP on a small wall
 def test_small_wall_agrees_with_the_global_minimum():
     """A 3-course running-bond wall of 0.4 x 0.3 m blocks (mu 0.9): the MILP proves the global
     frictional minimum; every verified start of the large route is a collapse state, so
@@ -152,6 +154,7 @@ def test_a_snap_past_its_deadline_fails_and_gives_no_point(backend):
     assert not res.ok and res.z is None and not res.no_point
 
 
+@pytest.mark.slow  # about 2-3.5 s: the large route on walls
 def test_large_walls_run_one_round_of_starts(monkeypatch):
     """From one_round_min_free free blocks on only as many starts as workers (the first
     friction factors); below it every factor's start, each listed with its label."""
@@ -164,6 +167,7 @@ def test_large_walls_run_one_round_of_starts(monkeypatch):
     assert [r["start"] for r in out["starts"]] == ["lp", "lp-mu*0.5", "lp-mu*0.25"] and out["ok"]
 
 
+@pytest.mark.slow  # about 20 s: the large route twice on a 3D wall
 def test_a_3d_wall_whose_lp_stalls_near_its_optimum_still_verifies(monkeypatch):
     """A 4 x 3 running-bond 3D wall (mu 0.7) slides as one on its base: H = mu W, alpha = mu
     (the associative LP gives the same 0.7, an upper bound). Its fourth iterative LP stalls at
@@ -193,6 +197,7 @@ def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
     assert seen == [["lp-mu*0.5", "lp-mu*0.25"], ["lp", "lp-mu*0.5"]]
 
 
+@pytest.mark.slow  # about 2-3.5 s: the large route on a wall
 def test_large_scenes_take_the_large_route(monkeypatch):
     """solver='auto' picks the route by size (the setting large_min_free, free blocks)."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
@@ -202,6 +207,7 @@ def test_large_scenes_take_the_large_route(monkeypatch):
     assert part["alpha_best"] <= part["alpha_worst"]
 
 
+@pytest.mark.slow  # about 3 s: the large route's starts twice, in parallel and one after another
 def test_starts_in_parallel_give_what_they_give_one_after_another():
     """Both cores: the starts run in two processes; same verified alphas, start by start."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
@@ -252,6 +258,7 @@ def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
     return seen, big
 
 
+@pytest.mark.slow  # about 3 s: the proximal iteration and the MILP on a small wall
 def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monkeypatch):
     """The proximal iterative LP (PROX, used from prox_min_free free blocks on) forced onto a
     small wall (:func:`_forced_on_a_small_wall`): every LP is proximal."""
@@ -261,6 +268,7 @@ def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monke
     assert seen and all(p == step2_large.PROX[2] for p in seen)
 
 
+@pytest.mark.slow  # about 2 s: the large route and the MILP on a small wall
 def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(monkeypatch):
     """The settings of very large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first, "least-slack" last,
     START_FACTORS_LARGE; from very_large_min_free free blocks on) forced onto a small wall
@@ -293,6 +301,7 @@ def test_a_verified_start_stops_the_others_after_the_grace(monkeypatch, grace):
     assert r["reason"].startswith("stopped: another start had verified")
 
 
+@pytest.mark.slow  # about 18 s: the large route on a 3 x 3 wall, then the route choice several times
 def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
     """Below large_min_free, solver 'auto' runs the successive LP and then the large route, and
     keeps the large route's verified alpha only when it is lower; every run of both is listed.
@@ -325,6 +334,7 @@ def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
     assert part["route"] == "successive-lp" and [r["solver"] for r in part["runs"]] == ["sla"]
 
 
+@pytest.mark.slow  # about 5 s: the bench's route comparison
 def test_the_bench_auto_column_is_what_step2_keeps():
     """bench/step2_large_bench.py's 'auto' column, computed from the two routes it times, is the
     alpha step2.step2 itself returns for the same wall (the lower of the successive LP's and the

@@ -41,6 +41,7 @@ def test_a_single_tie_is_designed_to_the_hand_computed_force(dim):
     assert out["result"]["nlp"]["alpha"] == pytest.approx(0.6, rel=1e-6)
 
 
+@pytest.mark.slow  # about 25 s: a tie design with step 2 at every trial force
 def test_step_2_raises_the_lps_capacity_to_reach_the_target():
     """The side-by-side blocks (frictional 23/61 below the LP's 7/17 untied) with two candidate
     ties from the slender block to a post: the LP picks the least total capacity at which its alpha
@@ -64,6 +65,7 @@ def test_step_2_raises_the_lps_capacity_to_reach_the_target():
     assert out["factor"] - below <= 2 * RTOL * out["factor"]
 
 
+@pytest.mark.slow  # about 18 s: limit design end to end in a subprocess
 def test_limit_design_writes_the_designed_scene(tmp_path):
     """End to end: the designed scene solves to the target; a bound below the need is 'infeasible'
     (exit 1, said); a target the untied block reaches needs no tie."""
@@ -143,6 +145,7 @@ def test_wall_to_wall_candidates_pair_the_tagged_blocks_at_each_level():
         wall_to_wall(_facade_with_cross_wall(), "front", "cross", levels=[2.0])
 
 
+@pytest.mark.slow  # about 35 s: a tie design (bisection on the tie force) on a facade and its cross wall
 def test_facade_tied_to_its_cross_wall_gets_the_hand_computed_tie():
     """Target 0.3 over candidates at 0.75 and 1.25 m: the higher one, with T = W_F (0.3 x 0.75 -
     0.125) / 1.25 = 1,177.2 N (:func:`_hand_tie`). The associative LP asks for a quarter of that
@@ -159,6 +162,7 @@ def test_facade_tied_to_its_cross_wall_gets_the_hand_computed_tie():
     assert out["result"]["nlp"]["alpha"] >= 0.3 * (1 - 1e-9)
 
 
+@pytest.mark.slow  # about 45 s: a tie design (bisection on the tie force) for the demand
 def test_design_for_the_demand_passes_the_linear_check_at_the_hand_computed_tie():
     """The scene's demand as the target (no --target-alpha): ag 0.3 g, S 1.2, q 2 at ground level,
     so the linear check needs a0* >= ag S / q = 0.18 g (C8A.4.7). The facade's rocking has e* = 1
@@ -177,6 +181,7 @@ def test_design_for_the_demand_passes_the_linear_check_at_the_hand_computed_tie(
     assert out["check"]["linear"]["pass"] and out["check"]["linear"]["ratio"] == pytest.approx(1.0, abs=2e-3)
 
 
+@pytest.mark.slow  # about 40 s: limit design end to end, candidates generated and designed
 def test_limit_design_generates_wall_to_wall_candidates(tmp_path):
     """End to end on the command line: the generated candidates, the designed tie, the written
     scene; --levels without --wall-to-wall is rejected (exit 2)."""

@@ -11,6 +11,7 @@ from limit.solve import nlp, step2_large
 from scenes.generators.families import MUS, member, wall_family
 
 
+@pytest.mark.slow  # about 3.5 s: builds twelve walls of up to 3,000 blocks
 def test_members_are_reproducible_and_cover_the_ranges():
     """Twelve members: every friction value in 2D and in 3D, every bond with and without
     openings, both 3D load angles, unit aspect ratios in [1.5, 4], and block counts within 25 % of
