@@ -22,8 +22,8 @@ KNOBS = {
     "dt": (1e-3, "time step (s); at 1e-2 a 55-block wall at rest drifted 1.8 mm in 3 s, at 1e-3 3 um"),
     "dt_tau": (0.0, "time step rule (dimensionless): where > 0, dt becomes min(dt, dt_tau x sqrt(h / g)), h the "
                     "least bounding-box extent of the thinnest free block; 0 keeps dt. The error of alpha falls "
-                    "about tenfold per halving of dt: 27-voussoir arch (h 0.125 m) -8.4 % at 1e-3 s, -0.8 % at "
-                    "5e-4; a wall of 55.6 mm courses -17.2 % and -1.9 % (docs/performance.md)"),
+                    "about tenfold per halving of dt (docs/performance.md, 'The bracket on a wall outside the "
+                    "catalog')"),
     "t_load": (0.02, "gravity alone before the live load starts (s); rigid blocks carry their weight from the "
                      "first step, so a short settle suffices (0.1 s gave the same alphas)"),
     "t_ramp": (0.05, "the live load rises linearly to alpha x fL over this (s)"),

@@ -23,10 +23,9 @@ def no_aslr_prefix() -> list[str]:
     (``setarch <machine> -R``), or [] where the kernel or a sandbox refuses it.
 
     YADE builds each Polyhedra's surface with CGAL, and the order of its vertices and
-    the triangulation of coplanar faces follow heap addresses. What shifted them in
-    practice was the process's environment (see dem_validation.runner.engine_env); fixed
-    addresses rule out the rest (a probe run straight from a shell, without that environment, gave different
-    surfaces with randomized addresses and the same ones without)."""
+    the triangulation of coplanar faces follow heap addresses, which shift with the process's
+    environment (dem_validation.runner.engine_env fixes it) and with address randomization (this
+    prefix turns it off): with both fixed, a scene gets the same surfaces in every run."""
     global _NO_ASLR
     if _NO_ASLR is None:
         exe = shutil.which("setarch")
