@@ -58,19 +58,15 @@ def _area(p: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def overlap_measure(fa: Face, fb: Face) -> float:
-    """Area (3D) or length (2D) of the overlap of the two faces' projections on a's plane."""
-    n = fa.normal
-    if len(n) == 2:
-        t = np.array([n[1], -n[0]])
-        a = np.sort(fa.corners @ t)
-        b = np.sort(fb.corners @ t)
-        return max(0.0, min(a[-1], b[-1]) - max(a[0], b[0]))
+def _basis(n: np.ndarray) -> np.ndarray:
+    """(3, 2) an orthonormal basis of the plane normal to the unit vector ``n``."""
     e1 = np.cross(np.eye(3)[np.argmin(np.abs(n))], n)
     e1 /= np.linalg.norm(e1)
-    e2 = np.cross(n, e1)
-    B = np.column_stack([e1, e2])
-    total = 0.0
+    return np.column_stack([e1, np.cross(n, e1)])
+
+
+def _overlaps(fa: Face, fb: Face, B: np.ndarray):
+    """The overlaps (k, 2) of the faces' triangles projected on the basis ``B`` (3D)."""
     ta = [_ccw(t @ B) for t in fa.tris]
     tb = [_ccw(t @ B) for t in fb.tris]
     for p in ta:
@@ -81,8 +77,18 @@ def overlap_measure(fa: Face, fb: Face) -> float:
             r = p
             for i in range(3):
                 r = _clip(r, q[i], q[(i + 1) % 3])
-            total += _area(r)
-    return total
+            yield r
+
+
+def overlap_measure(fa: Face, fb: Face) -> float:
+    """Area (3D) or length (2D) of the overlap of the two faces' projections on a's plane."""
+    n = fa.normal
+    if len(n) == 2:
+        t = np.array([n[1], -n[0]])
+        a = np.sort(fa.corners @ t)
+        b = np.sort(fb.corners @ t)
+        return max(0.0, min(a[-1], b[-1]) - max(a[0], b[0]))
+    return sum(_area(r) for r in _overlaps(fa, fb, _basis(n)))
 
 
 def tilt_and_separation(fa: Face, fb: Face) -> tuple[float, float | None]:
@@ -91,19 +97,12 @@ def tilt_and_separation(fa: Face, fb: Face) -> tuple[float, float | None]:
     3D faces only (2D joints are lines: a tilt there is snapped or is not a joint)."""
     n, nb = fa.normal, fb.normal
     cos = float(np.clip(-(n @ nb), -1.0, 1.0))
-    e1 = np.cross(np.eye(3)[np.argmin(np.abs(n))], n)
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(n, e1)
-    B = np.column_stack([e1, e2])
+    B = _basis(n)
     worst = None
-    for p in (_ccw(t @ B) for t in fa.tris):
-        for q in (_ccw(t @ B) for t in fb.tris):
-            r = p
-            for i in range(3):
-                r = _clip(r, q[i], q[(i + 1) % 3])
-            if _area(r) > 0:
-                X = r @ B.T + fa.offset * n  # the overlap's corners on a's plane
-                worst = max(worst or 0.0, float(np.abs((fb.offset - X @ nb) / (nb @ n)).max()))
+    for r in _overlaps(fa, fb, B):
+        if _area(r) > 0:
+            X = r @ B.T + fa.offset * n  # the overlap's corners on a's plane
+            worst = max(worst or 0.0, float(np.abs((fb.offset - X @ nb) / (nb @ n)).max()))
     return float(np.degrees(np.arccos(cos))), worst
 
 
