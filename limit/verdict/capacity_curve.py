@@ -237,8 +237,6 @@ def _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc) -> dict:
     ch = Chain(scene, I, mechanism)
     f0, fL = dead_and_live(scene)
     dirn = horizontal_direction(scene)
-    idx, pts, P = weights(scene)
-    dx = point_velocities(scene, mechanism, idx, pts) @ dirn
     k = int(np.argmax(np.abs(np.array([ch.vel(ch.v, i, ch.c0[i]) @ dirn for i in ch.free]))))
     ctrl = ch.free[k]
     dxk = float(ch.vel(ch.v, ctrl, ch.c0[ctrl]) @ dirn)  # the control point's virtual displacement
@@ -287,8 +285,23 @@ def _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc) -> dict:
             m = min(3, len(d))
             d0 = float(np.polyval(np.polyfit(al[-m:], d[-m:], m - 1), 0.0))
             break
-    d, al = np.array(d), np.array(al)
-    lin = linear(scene, mechanism, alpha0 if alpha0 is not None else a_start, fc)
+    out = spectral(scene, mechanism, np.array(d), np.array(al), alpha0 if alpha0 is not None else a_start, fc, d0, ctrl)
+    return {**out, "rotation": rot, "d_work": dwork, "control": scene.blocks[ctrl].id, "alpha0": a_start,
+            "n_joint_equations": len(ch.rows)}
+
+
+def spectral(scene, mechanism: dict, d: np.ndarray, al: np.ndarray, alpha0: float, fc: float, d0: float | None,
+             ctrl: int) -> dict:
+    """{"d", "alpha", "d0", "spectral"} of a capacity curve alpha(d) (d: the control point's
+    displacement along the live load, m) of the mechanism that starts as ``mechanism`` with
+    multiplier ``alpha0``, control block index ``ctrl``: d* = d sum P_i dx_i^2 / (dx_k sum P_i
+    dx_i) and a* = alpha g / (e* FC) (module docstring), and where the curve reaches alpha = 0 at
+    d0, d0*, du* = 0.4 d0*, ds* = 0.4 du*, as* = a*(ds*), au* = a*(du*) and Ts = 2 pi sqrt(ds*/as*)."""
+    lin = linear(scene, mechanism, alpha0, fc)
+    dirn = horizontal_direction(scene)
+    idx, pts, P = weights(scene)
+    dx = point_velocities(scene, mechanism, idx, pts) @ dirn
+    dxk = float(point_velocities(scene, mechanism, np.array([ctrl]), scene.blocks[ctrl].centroid[None])[0] @ dirn)
     g = float(np.linalg.norm(scene.gravity))
     moving = np.abs(dx) > 1e-6 * max(float(np.abs(dx).max(initial=0.0)), 1e-300)
     ratio = float(P[moving] @ dx[moving] ** 2) / (dxk * float(P[moving] @ dx[moving]))
@@ -302,5 +315,4 @@ def _follow(scene, mechanism, alpha0, interfaces, steps, theta_max, fc) -> dict:
         au = float(np.interp(du, d * ratio, al)) * g / (lin["e_star"] * fc)
         spec.update(d0_star=d0s, du_star=du, ds_star=ds, as_star=as_, Ts=2 * np.pi * np.sqrt(ds / as_) if as_ > 0 else None,
                     au_star=au)
-    return {"d": d.tolist(), "alpha": al.tolist(), "rotation": rot, "d_work": dwork, "d0": d0, "control": scene.blocks[ctrl].id,
-            "alpha0": a_start, "spectral": spec, "n_joint_equations": len(ch.rows)}
+    return {"d": d.tolist(), "alpha": al.tolist(), "d0": d0, "spectral": spec}
