@@ -67,6 +67,12 @@ class Settings:
     global_max_blocks: int = _s(
         30, "route", "free blocks",
         "the mixed-integer global check (--global) runs for scenes up to this many; above it is skipped")
+    curve_steps: int = _s(
+        20, "route", "steps",
+        "equal steps of the control displacement of the incremental capacity curve "
+        "(limit.verdict.incremental_curve; sliding and mixed mechanisms): the first-order error "
+        "against the kinematic-chain follower on portal-2d halves from 20 to 40 steps (2.6e-4 to 1.1e-4 "
+        "in alpha) at twice the time (tests/test_incremental_curve.py)")
 
     # -- budget: wall-clock limits -----------------------------------------------------------
     nlp_time_budget: float = _s(
@@ -80,6 +86,10 @@ class Settings:
         120.0, "budget", "s",
         "wall-clock limit of the global MILP; at the limit its best point so far counts "
         "(--global-time-limit overrides it)")
+    curve_time_budget: float = _s(
+        120.0, "budget", "s",
+        "the incremental capacity curve starts no step after this; a curve that has not reached "
+        "alpha = 0 by then has no d0 and says why")
 
     # -- tolerance: a posteriori checks (dimensionless, limit.solve.verify) ------------------
     tol_eq: float = _s(

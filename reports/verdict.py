@@ -12,7 +12,8 @@ FORMULAS = ("Formulas: participating mass M* = (sum P_i dx_i)^2 / (g sum P_i dx_
             "e* = g M* / sum P_i, spectral activation acceleration a0* = alpha0 g / (e* FC) (Circolare 617/2009 "
             "eqs. C8A.4.3-4, kept by the 2019 Circolare C8.7.1); linear check a0* >= ag S / q (C8A.4.9; above "
             "ground also Se(T1) psi(Z) gamma / q); capacity curve alpha(d) by following the mechanism at finite "
-            "displacement (2D and 3D rocking mechanisms) to alpha = 0 at d0, "
+            "displacement to alpha = 0 at d0 (rocking mechanisms by their joint equations, sliding and mixed ones by "
+            "incremental limit analysis: step 2 re-solved on the displaced geometry), "
             "d* = d sum P_i dx_i^2 / (dx_k sum P_i dx_i), du* = 0.4 d0*, Ts = 2 pi sqrt(ds*/as*) at ds* = 0.4 du* "
             "(C8A.4.2, C8A.4.5-7); nonlinear check du* >= SDe(Ts) = Se(Ts) (Ts / 2 pi)^2 (C8A.4.10, at ground "
             "level) with the elastic spectrum of NTC 2018 3.2.3.2.1; above ground du* >= SDeZ(T_SLV), the floor "
@@ -24,9 +25,10 @@ FORMULAS = ("Formulas: participating mass M* = (sum P_i dx_i)^2 / (g sum P_i dx_
 
 
 def kinematic_curve(scene, la: dict) -> dict | None:
-    """The LA mechanism followed at finite displacement (rocking mechanisms), or None: the
-    verdict's curve when the scene states a demand, else followed here."""
-    from limit.verdict.capacity_curve import follow
+    """The LA mechanism followed at finite displacement
+    (:func:`limit.verdict.local_check.capacity_curve`: rocking, sliding and mixed mechanisms), or
+    None: the verdict's curve when the scene states a demand, else followed here."""
+    from limit.verdict.local_check import capacity_curve
 
     v = (la or {}).get("verdict") or {}
     if v.get("curve"):
@@ -34,10 +36,7 @@ def kinematic_curve(scene, la: dict) -> dict | None:
     m = la_mechanism(la or {})
     if m is None:
         return None
-    try:
-        return follow(scene, m[2], m[1])
-    except ValueError:
-        return None
+    return capacity_curve(scene, m[2], m[1])[0]
 
 
 def _demand_line(d: dict, fc: float) -> str:

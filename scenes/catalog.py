@@ -45,6 +45,8 @@ FIG3_70_DEM_NOTE = (
 #: the report's worked example of the code check (reports/verdict.py): an illustrative site with
 #: ag = 0.2 g on soil C (S = 1.2), NTC 2018 spectrum shape, mechanisms at ground level, FC 1.35
 EXAMPLE_DEMAND = {"ag_g": 0.2, "S": 1.2, "F0": 2.5, "TB": 0.15, "TC": 0.5, "TD": 2.4, "q": 2.0, "fc": 1.35}
+#: the same ground motion from the site (NTC 2018 3.2.3.2.1: S, TB, TC, TD derived from Tc* and soil B)
+SITE_DEMAND = {"ag_g": 0.2, "F0": 2.5, "Tc_star": 0.4, "soil": "B", "q": 2.0, "fc": 1.35}
 
 
 #: the scenes whose expected alpha is a four-hinge mechanism search (scenes/closed_forms.py,
@@ -138,7 +140,7 @@ def entries(references: dict | None = None) -> dict:
                        meta={"title": "A slender block pushing a squat one",
                              "notes": "Rocking and sliding combine: the associative LP must dilate where the squat "
                                       "block slides and overestimates alpha by 9 %."}))
-    add(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2, name="wall-3x3-opening-2d",
+    facade = B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2, name="wall-3x3-opening-2d",
                             expected={"alpha": 5 / 14, "alpha_lp": 1.0, "rtol": 1e-4,
                                       "source": "by hand: c1-3 (0.2 x 0.4 m, centroid (1.1, 0.6)) and c2-2 (0.4 x 0.4 m, "
                                                 "centroid (1.0, 1.0)) turn together about the toe (1.2, 0.4); per unit "
@@ -151,7 +153,11 @@ def entries(references: dict | None = None) -> dict:
                             meta={"title": "3 x 3 running-bond wall whose joints open while they slide",
                                   "notes": "The LP's dilatant mechanism needs alpha = 1.0; without dilatancy the end "
                                            "blocks rock about a toe while the joints above open and slide at zero "
-                                           "normal force, at 5/14."}))
+                                           "normal force, at 5/14. With a joint sliding, its capacity curve "
+                                           "comes from incremental limit analysis (the code check's nonlinear "
+                                           "part)."})
+    facade["demand"] = dict(SITE_DEMAND)
+    add(facade)
     add(B.running_bond_wall(6, 5, dim=3, mu=0.65, name="wall-6x5-3d"))
     hinge_src = ("four-hinge mechanism method over all hinge sets (scenes/closed_forms.py, independent of limit/); "
                  "sliding does not govern at mu = 0.6")

@@ -134,3 +134,28 @@ def test_ties_and_pressure_loads_are_refused_by_name():
     sc = load_scene("scenes/catalog/block-tied-2d.json")
     with pytest.raises(ValueError, match="tie rods"):
         follow_frictional(sc)
+
+
+def test_the_code_check_of_a_mechanism_whose_joints_slide_gets_its_nonlinear_check():
+    """The 3x3 wall with its opening (a facade with a window) under a site demand: the verdict's
+    curve is the incremental one, and its du* is the closed form's. In the toe rotation
+    (previous test) c1-3 and c2-2 (weights in the ratio 0.08 : 0.16) move 0.2 and 0.6 m along
+    x per unit rotation, the control block is c2-2 (dx_k = 0.6), so d* = d sum P dx^2 / (dx_k sum
+    P dx) = d (0.08 0.04 + 0.16 0.36) / (0.6 (0.08 0.2 + 0.16 0.6)) = 0.904762 d (Circolare
+    C8A.4.5), and du* = 0.4 d0* = 0.4 x 0.904762 x 0.213453 m = 77.25 mm (C8A.4.2.3)."""
+    import json
+
+    from limit.verdict.local_check import verdict, verdict_lines
+
+    data = json.load(open("scenes/catalog/wall-3x3-opening-2d.json"))
+    data["demand"] = {"ag_g": 0.2, "F0": 2.5, "Tc_star": 0.4, "soil": "B", "q": 2.0, "fc": 1.35}
+    sc = load_scene(data)
+    v = verdict(sc, analyse(sc, verdict=False))
+    assert v["curve"]["method"] == "incremental" and not v["curve_reason"]
+    ts = np.arctan(5 / 14)
+    d0 = 0.2 - 0.2 * np.cos(ts) + 0.6 * np.sin(ts)
+    du = 0.4 * (0.08 * 0.04 + 0.16 * 0.36) / (0.6 * (0.08 * 0.2 + 0.16 * 0.6)) * d0
+    assert v["curve"]["spectral"]["du_star"] == pytest.approx(du, rel=1e-4)
+    nl = v["check"]["nonlinear"]
+    assert nl["capacity"] == pytest.approx(du, rel=1e-4) and nl["demand"] > 0
+    assert any(s.startswith("Capacity curve (incremental limit analysis") for s in verdict_lines(v))

@@ -53,6 +53,10 @@ def _screw(w, h: float, d: int) -> tuple[np.ndarray, np.ndarray]:
     return E, J
 
 
+class SlidingJoint(ValueError):
+    """The mechanism slides at a joint in contact: the joint equations cannot follow it."""
+
+
 #: relative tolerance of a joint's relative velocity (of the largest in the mechanism)
 JOINT_TOL = 1e-6
 
@@ -119,7 +123,7 @@ class Chain:
             slip = float(np.linalg.norm(dv - dn[:, None] * n, axis=1).max(initial=0.0))
             contact = dn <= float(I.mu[k]) * slip + tol
             if slip > tol and contact.any():
-                raise ValueError(f"joint {self.scene.blocks[a].id}|{self.scene.blocks[b].id} slides: the nonlinear "
+                raise SlidingJoint(f"joint {self.scene.blocks[a].id}|{self.scene.blocks[b].id} slides: the nonlinear "
                                  "kinematic analysis follows rocking mechanisms only")
             if slip > tol:  # an open joint: no equation
                 continue

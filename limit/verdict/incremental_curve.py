@@ -15,9 +15,12 @@ that swings into a neighbour it did not touch at the start goes through it.
 The frictional problem on these contacts (:mod:`limit.step2` on the assembled problem, the
 loads at the blocks' current centroids) gives alpha and the mechanism of the configuration;
 every free block then moves by the exact screw motion of its mechanism twist
-(:func:`limit.verdict.capacity_curve._screw`) scaled so that the control point advances by
-the step ``h`` along the live load's horizontal direction (forward Euler on the
-configuration). The gap tolerance ``g`` is a quarter of the largest point displacement of a
+(:func:`limit.verdict.capacity_curve._screw`) scaled so that the live load's work-conjugate
+displacement (its work per unit of its magnitude) advances by the step ``h`` (forward Euler on
+the configuration): every collapse mechanism advances it, whichever block moves most. Each
+step's step 2 has the previous configuration's mechanism as a start
+(:func:`limit.step2.adopt_dem_state`) and, unless the caller's options say otherwise, runs
+without the large-scale route's extra starts (the setting ``also_iterative``). The gap tolerance ``g`` is a quarter of the largest point displacement of a
 step, so that the first-order drift of a hinge over a step stays in contact; it is at least
 the scene's ``tolerance``.
 
@@ -30,6 +33,7 @@ a support's edge and tips over it.
 from __future__ import annotations
 
 import dataclasses
+import time
 
 import numpy as np
 
@@ -255,16 +259,19 @@ def _clip_halfplane(P: np.ndarray, s: np.ndarray) -> np.ndarray:
     return np.array(out).reshape(-1, 2)
 
 
-def follow_frictional(scene, alpha0: float | None = None, *, mechanism: dict | None = None, steps: int = 40,
-                      theta_max: float = 0.5, span: float | None = None, fc: float = FC_DEFAULT,
-                      options=None, progress=None) -> dict:
+def follow_frictional(scene, alpha0: float | None = None, *, mechanism: dict | None = None,
+                      steps: int | None = None, theta_max: float = 0.5, span: float | None = None,
+                      fc: float = FC_DEFAULT, options=None, time_budget: float | None = None,
+                      progress=None) -> dict:
     """alpha along the mechanism by incremental limit analysis (module docstring), in ``steps``
     equal steps of the control displacement up to ``span`` (m; default: the control point's
     displacement at which a block of the start's mechanism has turned ``theta_max`` rad, at
     most the control block's extent along the load, and that extent for a mechanism without
     rotation), stopping where alpha reaches 0. ``mechanism`` ({block id: generalised velocity})
-    and ``alpha0``: the start's (default: step 2 on the undeformed scene). ``progress``: a
-    callable(step, alpha) or None.
+    and ``alpha0``: the start's (default: step 2 on the undeformed scene). ``steps`` and
+    ``time_budget`` (s: no step starts after it) default to the settings ``curve_steps`` and
+    ``curve_time_budget`` of ``options`` (:class:`limit.model.assemble.Options`, also step 2's).
+    ``progress``: a callable(step, alpha) or None.
 
     Returns the layout of :func:`limit.verdict.capacity_curve.follow` ("d", "alpha", "rotation",
     "d_work", "d0", "control", "spectral", "alpha0") with "control_centroid" (the control block's
@@ -274,7 +281,11 @@ def follow_frictional(scene, alpha0: float | None = None, *, mechanism: dict | N
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, progress)
+        from limit.model.assemble import Options
+
+        st = (options or Options()).settings
+        return _follow(scene, alpha0, mechanism, steps or st.curve_steps, theta_max, span, fc, options,
+                       st.curve_time_budget if time_budget is None else time_budget, progress)
 
 
 def _solve(scene, I, options=None, start: dict | None = None) -> dict:
@@ -312,7 +323,8 @@ def _mech_array(scene, mech: dict) -> np.ndarray:
     return np.array([mech.get(scene.blocks[i].id, np.zeros(nd)) for i in scene.free], dtype=float).reshape(-1, nd)
 
 
-def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, progress) -> dict:
+def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budget, progress) -> dict:
+    t0 = time.perf_counter()
     from limit.model.loads import dead_and_live
 
     if getattr(scene, "ties", ()) or any(ld["type"] == "pressure" for ld in (*scene.dead, *scene.live)):
@@ -323,7 +335,7 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, progr
         raise ValueError("the incremental capacity curve follows dry joints; this scene has bonded or crushing joints")
     cfg = Configuration(scene, I0)
     if mechanism is None or alpha0 is None:
-        first = _solve(scene, I0, options)
+        first = _solve(scene, I0, options)  # step 2 as the analysis runs it
         if first.get("status") != "optimal" or not first.get("mechanism"):
             raise ValueError(f"step 2 on the undeformed scene gave no mechanism ({first.get('status')})")
         alpha0, mechanism = float(first["alpha"]), first["mechanism"]
@@ -338,19 +350,32 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, progr
         wmax = float(np.max(np.abs(U0[:, d:]).reshape(len(U0), -1).max(axis=1), initial=0.0)) if d == 2 else \
             float(np.max(np.linalg.norm(U0[:, d:], axis=1), initial=0.0))
         span = extent if wmax <= 1e-12 * abs(rates[kc]) else min(extent, theta_max * abs(rates[kc]) / wmax)
-    h = span / steps
     x0 = float(cfg.c[ctrl] @ dirn)
     f0, fL = dead_and_live(scene)
-    fl_den = float(np.linalg.norm(fL[:, :d], axis=1).sum())
+    fl_den = float(np.linalg.norm(fL[:, :d], axis=1).sum()) or 1.0
+
+    def power(U, fl):  # the live load's power per unit of its magnitude (m/s for unit rates)
+        return float(np.sum(fl * U)) / fl_den
+
+    # the steps advance the live load's work-conjugate displacement, which every collapse
+    # mechanism increases (fL . u = 1), whichever block moves most as the mechanism changes
+    h = span * power(U0, fL) / abs(rates[kc]) / steps
     pts = np.concatenate([scene.blocks[i].poly.vertices - cfg.c0[i] for i in scene.free]) if len(scene.free) else None
     size = float(np.ptp(pts, axis=0).max()) if pts is not None else 1.0
     ds, al, rot, dwork, cc = [0.0], [float(alpha0)], [0.0], [0.0], [cfg.c[ctrl].copy()]
-    d0, stop, solves = None, f"the control point moved the span {span:.4g} m", 0
-    U, prev = U0, mechanism
+    d0, stop, solves = None, f"the curve reached its span ({steps} steps, {span:.4g} m of the control point's start)", 0
+    if options is None:  # each step starts from the previous one's mechanism: no extra route
+        from limit.model.assemble import Options
+
+        options = Options(settings={"also_iterative": False})
+    U, prev, fL_now = U0, mechanism, fL
     for step in range(steps):
-        rate = float(U[kc, :d] @ dirn)
+        if time.perf_counter() - t0 > budget:
+            stop = f"the time budget ({budget:g} s, setting curve_time_budget) ran out after {step} steps"
+            break
+        rate = power(U, fL_now)
         if rate <= 0:
-            stop = "the mechanism no longer moves the control point along the load"
+            stop = "the mechanism does no work against the live load"
             break
         Us = U / rate
         wm = float(np.max(np.abs(Us[:, d:]), initial=0.0))
@@ -368,7 +393,7 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, progr
         rot.append(_angle(cfg.R[ctrl], d))
         cc.append(cfg.c[ctrl].copy())
         du = np.array([cfg.c[i] - cfg.c0[i] for i in scene.free])
-        dwork.append(float(np.sum(fL[:, :d] * du)) / fl_den if fl_den > 0 else float("nan"))
+        dwork.append(float(np.sum(fL[:, :d] * du)) / fl_den)
         if part.get("status") != "optimal" or a is None:
             al.append(0.0 if part.get("status") == "infeasible" else float("nan"))
             stop = ("the displaced configuration cannot carry its dead load" if part.get("status") == "infeasible"
@@ -384,7 +409,7 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, progr
                 ds[-1], al[-1] = d0, 0.0
             break
         al.append(float(a))
-        U, prev = _mech_array(now, part["mechanism"]), part["mechanism"]
+        U, prev, fL_now = _mech_array(now, part["mechanism"]), part["mechanism"], dead_and_live(now)[1]
         if progress is not None:
             progress(step + 1, float(a))
         if a <= 0:

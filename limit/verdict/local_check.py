@@ -1,6 +1,7 @@
 """The code check of a local mechanism from an analysis result: its mechanism's linear
-kinematic quantities (:mod:`limit.verdict.kinematic_check`), the capacity curve
-where the mechanism can be followed (:mod:`limit.verdict.capacity_curve`: rocking mechanisms, 2D and 3D)
+kinematic quantities (:mod:`limit.verdict.kinematic_check`), its capacity curve
+(:mod:`limit.verdict.capacity_curve` for rocking mechanisms, :mod:`limit.verdict.incremental_curve`
+where a joint slides; 2D and 3D)
 and the verdict against a demand (:mod:`limit.model.seismic_demand`)."""
 from __future__ import annotations
 
@@ -25,7 +26,6 @@ def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = N
     cannot be followed), "check" (None without a demand), "demand"}. ``demand`` and ``fc``
     default to the scene's (its "demand" key; FC 1.35). Raises ValueError when the result has
     no mechanism (infeasible, unbounded or failed), naming its status."""
-    from limit.verdict.capacity_curve import follow
     from limit.verdict.kinematic_check import linear
 
     demand = scene.demand if demand is None else demand
@@ -37,15 +37,31 @@ def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = N
                          + (f" ({lp.get('reason')})" if lp.get("reason") else ""))
     step, alpha0, mech = m
     lin = linear(scene, mech, alpha0, fc)
-    curve, why = None, ""
-    try:
-        curve = follow(scene, mech, alpha0, fc=fc)
-    except ValueError as exc:
-        why = str(exc)
+    curve, why = capacity_curve(scene, mech, alpha0, fc)
     sp = (curve or {}).get("spectral") or {}
     c = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts"), sp.get("au_star")) if demand is not None else None
     return {"scene": scene.name, "step": step, "alpha0": alpha0, "linear": lin, "curve": curve,
             "curve_reason": why, "check": c, "demand": None if demand is None else as_dict(demand)}
+
+
+def capacity_curve(scene, mech: dict, alpha0: float, fc: float = FC_DEFAULT, options=None) -> tuple[dict | None, str]:
+    """(curve, "") of a mechanism, or (None, why not): the kinematic-chain follower
+    (:func:`limit.verdict.capacity_curve.follow`) for a rocking mechanism, the incremental limit
+    analysis (:func:`limit.verdict.incremental_curve.follow_frictional`, ``options`` its step 2's)
+    where a joint slides."""
+    from limit.verdict.capacity_curve import SlidingJoint, follow
+    from limit.verdict.incremental_curve import follow_frictional
+
+    try:
+        return follow(scene, mech, alpha0, fc=fc), ""
+    except SlidingJoint:
+        pass
+    except ValueError as exc:
+        return None, str(exc)
+    try:
+        return follow_frictional(scene, alpha0, mechanism=mech, fc=fc, options=options), ""
+    except ValueError as exc:
+        return None, str(exc)
 
 
 def scene_verdict(scene, res: dict) -> dict:
@@ -65,13 +81,18 @@ def verdict_lines(a: dict) -> list[str]:
     out = [f"Mechanism of the {a['step'].upper()}, alpha0 = {a['alpha0']:.6g}: M* = {q['M_star']:.6g} kg"
            + (f" of {q['sum_P'] / G:.4g} kg moving" if "sum_P" in q else "")
            + f", e* = {q['e_star']:.4f}, a0* = {q['a0_star']:.4f} m/s^2 = {q['a0_star_g']:.4f} g (FC = {q['fc']:g})."]
-    sp = (a.get("curve") or {}).get("spectral") or {}
+    curve = a.get("curve") or {}
+    sp = curve.get("spectral") or {}
+    how = (f" (incremental limit analysis, {curve.get('steps')} steps: a joint slides)"
+           if curve.get("method") == "incremental" else "")
     if sp.get("du_star") is not None:
-        out.append(f"Capacity curve: d0* = {sp['d0_star'] * 1e3:.1f} mm, du* = {sp['du_star'] * 1e3:.1f} mm, "
+        out.append(f"Capacity curve{how}: d0* = {sp['d0_star'] * 1e3:.1f} mm, du* = {sp['du_star'] * 1e3:.1f} mm, "
                    f"ds* = {sp['ds_star'] * 1e3:.1f} mm, as* = {sp['as_star']:.3f} m/s^2, Ts = {sp['Ts']:.3f} s"
                    + (f", a*(du*) = {sp['au_star']:.3f} m/s^2." if sp.get("au_star") is not None else "."))
     elif a.get("curve_reason"):
         out.append(f"No capacity curve: {a['curve_reason']}.")
+    elif curve:
+        out.append(f"Capacity curve{how}: alpha does not reach 0 ({curve.get('stop')}): no du*.")
     return out + check_lines(a.get("check"))
 
 
