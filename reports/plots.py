@@ -268,9 +268,11 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
     trials (rigid blocks: each trial starts from rest, so its points are the ends of the
     trials that held, at a few micrometres, and its x the lowest that collapsed); dashed
     lines at the limit analysis's alpha (frictional where it ran), at YADE's extrapolated
-    alpha and at LMGC90's; and ``kinematic`` (:func:`limit.verdict.capacity_curve.follow`): the limit
-    analysis's mechanism followed at finite displacement, alpha against its work-conjugate
-    displacement. False (no figure) when there is nothing to draw."""
+    alpha and at LMGC90's; and ``kinematic`` (:func:`limit.verdict.local_check.capacity_curve`: the
+    joint equations of a rocking mechanism, incremental limit analysis where a joint slides): the
+    limit analysis's mechanism followed at finite displacement, alpha against its work-conjugate
+    displacement, on a panel of its own beside the engines' curves, with a note on why the two
+    differ in displacement. False (no figure) when there is nothing to draw."""
     pts = capacity_points(dem or {})
     rigid = capacity_points(lmgc) if lmgc and engines.of_result(lmgc).rigid else {"curves": {}}
     if not pts["curves"] and not rigid["curves"] and not kinematic:
@@ -292,11 +294,16 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
         if hi is not None and np.isfinite(hi) and len(u):
             ax.plot([1e3 * u[-1]], [hi], "x", color="0.35", ms=8, mew=2)
     if kinematic:
+        how = "incremental, a joint slides" if kinematic.get("method") == "incremental" else "rocking"
         axk.plot(1e3 * np.asarray(kinematic["d_work"]), kinematic["alpha"], "-", color=COLORS["nlp"], lw=1.6,
-                 label="limit analysis, finite displacement")
+                 label=f"limit analysis at finite displacement ({how})")
         if axk is not ax:
             axk.set_xlabel("control displacement (mm): live-load work / |live load|")
             axk.set_title("the limit analysis's mechanism to alpha = 0 (capacity curve)", fontsize=9)
+            fig.text(0.5, 0.01, "left: the engines' equilibria before collapse, at contact compliance (mm); right: rigid "
+                     "blocks after collapse starts, alpha falling with the geometry. Their peaks compare; their "
+                     "displacements do not (rigid limit analysis has no contact stiffness).", ha="center", va="bottom",
+                     fontsize=6.5, wrap=True)
             axk.grid(True, alpha=0.3)
             axk.legend(fontsize=7, loc="upper right")
     if la_alpha is not None and np.isfinite(la_alpha):
@@ -311,7 +318,7 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
     ax.set_title(("pushover curves" + (f": {title}" if title else "")) + " (x: first collapse)", fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.07, 1, 1) if axk is not ax else None)
     fig.savefig(path, dpi=100)
     plt.close(fig)
     return True

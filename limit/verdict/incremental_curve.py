@@ -300,7 +300,7 @@ def _solve(scene, I, options=None, start: dict | None = None) -> dict:
 
     P = assemble(scene, options, interfaces=I)
     sol, _, _ = solve_lp(P, _lp_solver(), True, False)
-    if sol.status != "optimal":
+    if sol.status not in ("optimal", "unbounded"):  # unbounded: step 2 starts from the dead load
         return {"status": sol.status, "alpha": None, "mechanism": None}
     state = None if start is None else {"displacement": start, "source": "previous step"}
     part = step2.step2(P, sol, method="auto", dem_state=state)
