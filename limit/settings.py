@@ -87,7 +87,7 @@ class Settings:
         "wall-clock limit of the global MILP; at the limit its best point so far counts "
         "(--global-time-limit overrides it)")
     curve_time_budget: float = _s(
-        120.0, "budget", "s",
+        60.0, "budget", "s",
         "the incremental capacity curve starts no step after this; a curve that has not reached "
         "alpha = 0 by then has no d0 and says why")
 

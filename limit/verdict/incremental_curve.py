@@ -40,9 +40,12 @@ import numpy as np
 from limit.geom import _clip as clip
 from limit.geom.geometry import Polytope, plane_basis, polygon_area_centroid
 from limit.geom.interfaces import Interfaces, _frame_fields, find_interfaces, pieces
+from limit.model.dims import rigid_velocity
 from limit.verdict.capacity_curve import _screw, spectral
 from limit.verdict.kinematic_check import FC_DEFAULT, horizontal_direction
 
+#: a curve takes at most this many times its ``steps`` (steps shrink where the mechanism narrows)
+MAX_STEPS = 4
 #: a face of a block forms a joint's side when its outward normal is within this of the
 #: joint normal's direction (1 - cos; about 8 degrees: tilted joints included)
 FACE_COS = 1e-2
@@ -200,6 +203,15 @@ class Configuration:
         # the contact polygons were made in plane_basis(n[r]) of each row: the same basis here
         return Interfaces(**base, **_frame_fields(n, e1, e2, o, [p for *_, p in fields], self.scene.tolerance))
 
+    def corner_speed(self, mech: np.ndarray) -> float:
+        """The largest speed of a free block's corner in the generalised velocities ``mech``
+        (n_free, nd) at the blocks' current centroids."""
+        d, v = self.d, 0.0
+        for k, i in enumerate(self.scene.free):
+            r = (self.scene.blocks[i].poly.vertices - self.c0[i]) @ self.R[i].T
+            v = max(v, float(np.linalg.norm(rigid_velocity(mech[k], r, d), axis=1).max()))
+        return v
+
     def move(self, mech: np.ndarray, h: float) -> None:
         """Every free block by the screw motion of its generalised velocity (nd,) at its current
         centroid, ``mech`` (n_free, nd), held for h."""
@@ -263,11 +275,13 @@ def follow_frictional(scene, alpha0: float | None = None, *, mechanism: dict | N
                       steps: int | None = None, theta_max: float = 0.5, span: float | None = None,
                       fc: float = FC_DEFAULT, options=None, time_budget: float | None = None,
                       progress=None) -> dict:
-    """alpha along the mechanism by incremental limit analysis (module docstring), in ``steps``
-    equal steps of the control displacement up to ``span`` (m; default: the control point's
-    displacement at which a block of the start's mechanism has turned ``theta_max`` rad, at
-    most the control block's extent along the load, and that extent for a mechanism without
-    rotation), stopping where alpha reaches 0. ``mechanism`` ({block id: generalised velocity})
+    """alpha along the mechanism by incremental limit analysis (module docstring), stopping where
+    alpha reaches 0. ``span`` (m; default: the control point's displacement at which a block of the
+    start's mechanism has turned ``theta_max`` rad, at most the control block's extent along the
+    load, and that extent for a mechanism without rotation) is covered in ``steps`` steps of the
+    live load's work-conjugate displacement, each shortened where needed so that no block's corner
+    moves further than in the first step; past the span the curve goes on while alpha still falls,
+    up to :data:`MAX_STEPS` x ``steps`` steps. ``mechanism`` ({block id: generalised velocity})
     and ``alpha0``: the start's (default: step 2 on the undeformed scene). ``steps`` and
     ``time_budget`` (s: no step starts after it) default to the settings ``curve_steps`` and
     ``curve_time_budget`` of ``options`` (:class:`limit.model.assemble.Options`, also step 2's).
@@ -360,16 +374,21 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
     # the steps advance the live load's work-conjugate displacement, which every collapse
     # mechanism increases (fL . u = 1), whichever block moves most as the mechanism changes
     h = span * power(U0, fL) / abs(rates[kc]) / steps
-    pts = np.concatenate([scene.blocks[i].poly.vertices - cfg.c0[i] for i in scene.free]) if len(scene.free) else None
-    size = float(np.ptp(pts, axis=0).max()) if pts is not None else 1.0
+    # no step moves a block's corner further than the first step does: a mechanism that narrows to
+    # a few blocks moves them more per unit of the live load's work, and the steps shrink with it
+    delta = h * cfg.corner_speed(U0 / power(U0, fL))
     ds, al, rot, dwork, cc = [0.0], [float(alpha0)], [0.0], [0.0], [cfg.c[ctrl].copy()]
-    d0, stop, solves = None, f"the curve reached its span ({steps} steps, {span:.4g} m of the control point's start)", 0
+    d0, stop, solves = None, (f"the curve reached its span ({span:.4g} m of the control point's start) with alpha no "
+                              "longer falling"), 0
     if options is None:  # each step starts from the previous one's mechanism: no extra route
         from limit.model.assemble import Options
 
         options = Options(settings={"also_iterative": False})
     U, prev, fL_now = U0, mechanism, fL
-    for step in range(steps):
+    done = 0.0  # the live load's work-conjugate displacement so far
+    for step in range(MAX_STEPS * steps):
+        if done >= h * steps * (1.0 - 1e-9) and not al[-1] < al[-2] - 1e-6 * abs(al[0]):
+            break  # past the span, alpha no longer falling (a sliding plateau): it would not reach 0
         if time.perf_counter() - t0 > budget:
             stop = f"the time budget ({budget:g} s, setting curve_time_budget) ran out after {step} steps"
             break
@@ -378,9 +397,11 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
             stop = "the mechanism does no work against the live load"
             break
         Us = U / rate
-        wm = float(np.max(np.abs(Us[:, d:]), initial=0.0))
-        move = h * (float(np.abs(Us[:, :d]).max(initial=0.0)) + wm * size)
-        cfg.move(Us, h)
+        vmax = cfg.corner_speed(Us)
+        hs = min(h, delta / vmax) if vmax > 0 else h
+        move = hs * vmax
+        cfg.move(Us, hs)
+        done += hs
         now = cfg.scene_now()
         try:
             part = _solve(now, cfg.contacts(max(scene.tolerance, 0.25 * move)), options, prev)
@@ -416,6 +437,8 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
             d0 = float(np.interp(0.0, [al[-1], al[-2]], [ds[-1], ds[-2]]))
             stop = "alpha reached 0"
             break
+    else:
+        stop = f"{solves} steps made before the span (at most {MAX_STEPS} x curve_steps)"
     out = spectral(scene, mechanism, np.array(ds), np.array(al), alpha0, fc, d0, ctrl)
     return {**out, "rotation": rot, "d_work": dwork, "control": scene.blocks[ctrl].id, "alpha0": float(alpha0),
             "control_centroid": np.array(cc).tolist(), "method": "incremental", "steps": solves, "stop": stop}
