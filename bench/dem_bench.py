@@ -81,7 +81,7 @@ def limit_alphas(scene_dict) -> dict:
     from limit.analysis import analyse
     from limit.model.scene import load_scene
 
-    res = analyse(load_scene(scene_dict), method="nlp")
+    res = analyse(load_scene(scene_dict), method="nlp").data
     return {"alpha_lp": res["lp"]["alpha"], "alpha_nlp": res["nlp"]["alpha"], "nlp_status": res["nlp"]["status"]}
 
 

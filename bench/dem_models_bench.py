@@ -62,7 +62,7 @@ def reference(scene) -> tuple[float | None, str]:
     sc = load_scene(scene)
     if sc.expected.get("alpha") is not None:
         return float(sc.expected["alpha"]), "closed form"
-    res = analyse(sc, method="auto", nlp_options={"global_check": False, "iterative": False})
+    res = analyse(sc, method="auto", nlp_options={"global_check": False, "iterative": False}).data
     nlp = res.get("nlp") or {}
     if nlp.get("status") == "optimal" and nlp.get("alpha") is not None:
         return float(nlp["alpha"]), "NLP"

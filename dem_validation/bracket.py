@@ -39,7 +39,7 @@ def limit_analysis(scene) -> dict:
 
     model = Options(n_slide=CONE_FACES, slide_fit="inscribed") if scene.dim == 3 else Options()
     res = analyse(replace(scene, demand=None), options=model,
-                  nlp_options={"global_check": False, "iterative": False, "arbitrary": False})
+                  nlp_options={"global_check": False, "iterative": False, "arbitrary": False}).data
     lp, nlp = res["lp"], res.get("nlp") or {}
     fric = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None
     return {"fric_alpha": fric, "lp_alpha": lp.get("alpha") if lp.get("status") == "optimal" else None,

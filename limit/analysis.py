@@ -1,4 +1,5 @@
-"""The two-step limit analysis of a scene, producing the result file of docs/formats.md, 'Result file'.
+"""The two-step limit analysis of a scene: :class:`Analysis`, the result file of docs/formats.md,
+'Result file', with the assembled problem and the LP solution it is made from.
 
 Step 1: the checked associative LP (:mod:`limit.solve.checked_lp`). Step 2 (NLP,
 :mod:`limit.step2`) is added by :func:`analyse` according to the method. The result's
@@ -7,10 +8,11 @@ parts are built by :mod:`limit.results.result_parts`.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 from limit import settings, step2
 from limit.solve import lp as lpmod
-from limit.model.assemble import Options, assemble
+from limit.model.assemble import Assembled, Options, assemble
 from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
 from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
 
@@ -19,10 +21,21 @@ from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
 RESULT_UNITS = {"length": "m", "mass": "kg", "force": "N", "time": "s"}
 
 
+@dataclass(frozen=True)
+class Analysis:
+    """One analysis: ``data``, the result file's content (plain JSON-ready values only), beside
+    the objects it is made from: ``P``, the assembled problem, and ``sol``, step 1's LP solution."""
+
+    data: dict
+    P: Assembled
+    sol: lpmod.LPSolution
+
+
 def analyse(scene, method: str = "auto", options: Options | None = None, solver: str = lpmod.DEFAULT_SOLVER,
             fallback: bool = True, check_kinematic: bool = False, nlp_options: dict | None = None,
-            verdict: bool = True) -> dict:
-    """Full analysis of a scene: the result dict of docs/formats.md, 'Result file' (without ``dem``).
+            verdict: bool = True) -> Analysis:
+    """Full analysis of a scene: its :class:`Analysis`, whose ``data`` is the result file of
+    docs/formats.md, 'Result file' (without ``dem``).
     ``verdict`` False: no code check even where the scene states a demand (a caller that
     checks against another demand).
 
@@ -37,7 +50,7 @@ def analyse(scene, method: str = "auto", options: Options | None = None, solver:
         return _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options, verdict)
 
 
-def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options, verdict=True) -> dict:
+def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_options, verdict=True) -> Analysis:
     t0 = time.perf_counter()
     P = assemble(scene, options)
     sol, attempts, residuals = solve_lp(P, solver, fallback, check_kinematic)
@@ -59,9 +72,7 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         from limit.verdict.local_check import scene_verdict
 
         out["verdict"] = scene_verdict(scene, out)
-    out["_assembled"] = P
-    out["_lp_solution"] = sol
-    return out
+    return Analysis(out, P, sol)
 
 
 def _name_dead_mechanism(P, lp: dict) -> None:
@@ -76,9 +87,3 @@ def _name_dead_mechanism(P, lp: dict) -> None:
     lp["dead_load_mechanism"] = part
     lp["reason"] = f"{lp.get('reason') or 'the dead load alone cannot be carried'}; {dead_mechanism.phrase(part)}"
 
-
-def public(result):
-    """The result without the in-memory objects (keys starting with '_', at any depth)."""
-    if isinstance(result, dict):
-        return {k: public(v) for k, v in result.items() if not str(k).startswith("_")}
-    return result

@@ -2,6 +2,7 @@
 content as attributes, :meth:`Result.to_dict` for the file itself)."""
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
 from limit.model.assemble import Options
@@ -123,10 +124,8 @@ class Result:
         return self
 
     def to_dict(self) -> dict:
-        """The result file's content (JSON-ready: docs/formats.md, 'Result file')."""
-        from limit.analysis import public
-
-        return public(self._data)
+        """The result file's content (JSON-ready: docs/formats.md, 'Result file'), a copy."""
+        return copy.deepcopy(self._data)
 
 
 def analyse(scene, method: str = "auto", options: Options | None = None, **kw) -> Result:
@@ -138,7 +137,7 @@ def analyse(scene, method: str = "auto", options: Options | None = None, **kw) -
 
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    d = _analyse(scene, method=method, options=options, **kw)
+    d = _analyse(scene, method=method, options=options, **kw).data
     return Result(d["scene"], d["dim"], d["n_blocks"], d["n_free_blocks"], d["n_interfaces"],
                   StepResult.from_dict(d["lp"]), StepResult.from_dict(d.get("nlp")), d,
                   Verdict.from_dict(d.get("verdict")))

@@ -175,7 +175,7 @@ def cmd_build(args) -> int:
 
 def cmd_check(args) -> int:
     from limit import jsonio
-    from limit.analysis import analyse, public
+    from limit.analysis import analyse
     from limit.verdict.local_check import format_assessment, verdict
     from limit.model.scene import load_scene
     from limit.model.seismic_demand import from_mapping
@@ -205,7 +205,7 @@ def cmd_check(args) -> int:
     scene = load_scene(args.scene, strict=args.strict)
     try:
         own_demand = demand is None and args.fc is None  # the scene's demand: its check is made by analyse
-        res = public(analyse(scene, method=args.method, verdict=own_demand))
+        res = analyse(scene, method=args.method, verdict=own_demand).data
         own = res.get("verdict") or {}
         if own_demand and own.get("status") == "done":
             a = {k: v for k, v in own.items() if k != "status"}
@@ -224,7 +224,6 @@ def cmd_design(args) -> int:
     import json
 
     from limit import jsonio
-    from limit.analysis import public
     from limit.model.scene import load_scene
     from limit.tie_design import design
 
@@ -288,7 +287,7 @@ def cmd_design(args) -> int:
         jsonio.write_json(args.output, dict(data, ties=keep + out["ties"]))
         print(f"wrote {args.output}")
     if args.json:
-        jsonio.write_json(args.json, {**{k: v for k, v in out.items() if k != "result"}, "result": public(res)})
+        jsonio.write_json(args.json, {**{k: v for k, v in out.items() if k != "result"}, "result": res})
     return 0
 
 
@@ -354,7 +353,7 @@ def _worse_elsewhere(out: dict, rtol: float = 1e-6) -> bool:
 
 def cmd_solve(args) -> int:
     from limit import jsonio
-    from limit.analysis import analyse, public
+    from limit.analysis import analyse
     from limit.model.assemble import Options
     from limit.model.scene import load_scene
     from limit.results.summary import format_result
@@ -397,10 +396,9 @@ def cmd_solve(args) -> int:
         print(f"(from the result cache, {cache.path('solve', scene.name, k)}; --no-cache solves again)",
               file=sys.stderr)
     else:
-        res = analyse(scene, method=args.method, options=opts, solver=args.solver,
-                      fallback=not args.no_fallback, check_kinematic=args.check_kinematic, nlp_options=nlp_options)
-        print(format_result(res))
-        out = public(res)
+        out = analyse(scene, method=args.method, options=opts, solver=args.solver, fallback=not args.no_fallback,
+                      check_kinematic=args.check_kinematic, nlp_options=nlp_options).data
+        print(format_result(out))
         if cache is not None and "failed" not in (out["lp"].get("status"), (out.get("nlp") or {}).get("status")):
             cache.put("solve", scene.name, k, out)  # a failed answer is solved again next time
     if args.json:

@@ -83,7 +83,7 @@ def _lp_alpha(args) -> tuple:
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
         return theta, "unbounded", None, time.perf_counter() - t0, None, None
     res = analyse(scene, method="auto" if frictional else "lp",
-                  nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None)
+                  nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None).data
     lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
     if not frictional:
         return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, None, None
@@ -183,8 +183,8 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
 
 def _at(data: dict, theta: float) -> dict:
     """The analysis in one direction (step 2 where it applies) with the code check there."""
-    from limit.analysis import analyse, public
+    from limit.analysis import analyse
     from limit.model.scene import load_scene
 
-    r = public(analyse(load_scene(_turn(data, theta, verdict=True)), method="auto"))
+    r = analyse(load_scene(_turn(data, theta, verdict=True)), method="auto").data
     return {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}

@@ -12,7 +12,7 @@ import numpy as np
 from limit import settings
 from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
-from limit.results.result_parts import interfaces_part, ties_line, ties_part
+from limit.results.result_parts import interfaces_part, ties_part
 
 
 ALL_STRATEGIES = ("penalty", "random", "friction", "coarse")
@@ -312,11 +312,9 @@ def _point_part(P, N, z) -> dict:
     _, x, u, lam = N.unscale(z)
     cls = mechanism.classify(P, u)
     out = {"mechanism": mechanism.per_block(P, u), "normalisation": "unit work of the live load: fL . u = 1",
-           "interfaces": interfaces_part(P, P.model.H @ x, cls), "counts": {k: int(v.sum()) for k, v in cls.items()},
-           "_summary": ["  mechanism (frictional):"] + ["  " + s for s in mechanism.summary_lines(P, u)]}
+           "interfaces": interfaces_part(P, P.model.H @ x, cls), "counts": {k: int(v.sum()) for k, v in cls.items()}}
     if P.scene.ties:
         out["ties"] = ties_part(P, x, u)
-        out["_summary"].append(ties_line(out["ties"]))
     return out
 
 

@@ -91,7 +91,7 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
     """The design of the module docstring: {"status" ("done", "infeasible", "out_of_reach",
     "failed"), "target", "lp_capacities" (step 1's, N), "factor" (step 2's common factor),
     "ties" (the designed tie entries, capacity in N, the unneeded dropped), "result" (the
-    analysis of the designed scene), "trials" [(factor, frictional alpha)], "reason",
+    result dict of the designed scene's analysis), "trials" [(factor, frictional alpha)], "reason",
     "time_s"}. ``data``: the scene dict in its own units, as the candidates' points; ``keep``: the
     scene's ties that stay as they are; ``progress(text)``: told of each trial."""
     from limit.analysis import analyse
@@ -107,7 +107,7 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
     lp = least_capacity(data, candidates, target, keep)
     if lp["status"] == "optimal" and not any(c > 0 for c in lp["capacities"]):
         # the LP reaches the target untied; step 2 may not (friction does not dilate)
-        res = analyse(load_scene(_with(data, list(keep))), method=method)
+        res = analyse(load_scene(_with(data, list(keep))), method=method).data
         a = _frictional(res, method)
         out["trials"].append((0.0, a))
         if a is not None and a >= target * (1 - 1e-9):
@@ -140,7 +140,7 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
     def trial(f):
         ties = [dict(c, capacity=min(c["capacity"] * f, b) if b is not None else c["capacity"] * f)
                 for c, b in zip(base, bound)]
-        res = analyse(load_scene(_with(data, list(keep) + ties)), method=method)
+        res = analyse(load_scene(_with(data, list(keep) + ties)), method=method).data
         a = _frictional(res, method)
         out["trials"].append((f, a))
         if progress:
@@ -206,7 +206,7 @@ def design_for_demand(data: dict, candidates: list, method: str = "auto", progre
     scene = load_scene(_with(data, list(keep)))
     if scene.demand is None:
         raise ValueError("no --target-alpha and no 'demand' in the scene: give one of the two")
-    res = analyse(scene, method=method)
+    res = analyse(scene, method=method).data
     alpha, ratio = _linear_ratio(res)
     if ratio is None:
         raise ValueError(f"the scene's code check did not run: {(res.get('verdict') or {}).get('reason', 'no check')}")

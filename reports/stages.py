@@ -107,7 +107,7 @@ def run_cone(path: str, options: dict) -> dict:
 def run_la(path: str, options: dict) -> dict:
     """Limit analysis of the scene file at ``path``: the result file's content (docs/formats.md,
     'Result file'); ``options`` may set the friction model (``n_slide``, ``slide_fit``)."""
-    from limit.analysis import analyse, public
+    from limit.analysis import analyse
     from limit.model.assemble import Options
     from limit.errors import SceneError
     from limit.model.scene import load_scene
@@ -120,7 +120,7 @@ def run_la(path: str, options: dict) -> dict:
                     "iterative": n_free <= options["iterative_max_free"],
                     "global_time_limit": options["global_time_limit"], "arbitrary": n_free <= options["global_max_free"]}
         model = Options(n_slide=options.get("n_slide"), slide_fit=options.get("slide_fit", "auto"))
-        res = public(analyse(scene, method=options["method"], options=model, nlp_options=nlp_opts))
+        res = analyse(scene, method=options["method"], options=model, nlp_options=nlp_opts).data
     except SceneError as exc:
         res = {"lp": {"status": "failed", "alpha": None, "reason": f"rejected scene: {exc}"}}
     except Exception as exc:  # noqa: BLE001 - reported, never raised
@@ -149,7 +149,7 @@ def run_dem(path: str, options: dict) -> dict:
 
 def guess_from(la: dict) -> float | None:
     """The first guess for a dynamic search from a limit-analysis result (the ``la`` stage's,
-    or :func:`limit.analysis.analyse`'s): step 2's (frictional) alpha where it gives one, else
+    or the ``data`` of :func:`limit.analysis.analyse`'s): step 2's (frictional) alpha where it gives one, else
     the LP's; None when neither is a positive number."""
     for part in (la.get("nlp") or {}, la.get("lp") or {}):
         if part.get("status") == "optimal" and part.get("alpha") is not None and part["alpha"] > 0:
@@ -166,7 +166,7 @@ def la_guess(scene) -> float | None:
     from limit.analysis import analyse
 
     return guess_from(analyse(replace(scene, demand=None),
-                              nlp_options={"global_check": False, "iterative": False, "arbitrary": False}))
+                              nlp_options={"global_check": False, "iterative": False, "arbitrary": False}).data)
 
 
 def run_lmgc(path: str, options: dict) -> dict:

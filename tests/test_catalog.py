@@ -38,7 +38,7 @@ def test_every_scene_loads():
 def test_reference_values(path):
     d = json.loads(path.read_text())
     exp = d["expected"]
-    res = analyse(load_scene(d), method="auto")
+    res = analyse(load_scene(d), method="auto").data
     rtol = exp.get("rtol", 1e-6)
     if exp.get("alpha_lp") is not None:
         assert res["lp"]["alpha"] == pytest.approx(exp["alpha_lp"], rel=rtol)

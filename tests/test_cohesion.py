@@ -32,7 +32,7 @@ def test_a_glued_block_slides_at_mu_plus_cA_over_W(dim, model):
     with cohesion), so sliding governs. The associative LP's dilatant slide dissipates c A per
     unit slip and lifts W by mu per unit slip: the same alpha."""
     res = analyse(load_scene(_glued(dim, cohesion=2000.0)), method="nlp",
-                  options=Options(model=model))
+                  options=Options(model=model)).data
     W = RHO_G * 1.0 * 0.5 * (0.4 if dim == 3 else 1.0)
     A = 0.4 if dim == 3 else 1.0
     want = 0.3 + 2000.0 * A / W
@@ -59,14 +59,14 @@ def test_tensile_strength_raises_overturning_to_b_over_h_times_1_plus_ftA_over_W
     W = RHO_G * 0.4 * 1.0 * (0.3 if dim == 3 else 1.0)
     A = 0.4 * (0.3 if dim == 3 else 1.0)
     want = 0.4 * (1.0 + 5000.0 * A / W)
-    res = analyse(load_scene(_tall(dim, tensile_strength=5000.0)), method="nlp")
+    res = analyse(load_scene(_tall(dim, tensile_strength=5000.0)), method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx(want, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(want, rel=1e-6)
     both = _tall(dim, tensile_strength=5000.0, cohesion=10000.0)
-    res = analyse(load_scene(both), method="nlp", options=Options(model="vertex"))
+    res = analyse(load_scene(both), method="nlp", options=Options(model="vertex")).data
     assert res["lp"]["alpha"] == pytest.approx(want, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(want, rel=1e-6)
-    res = analyse(load_scene(_tall(dim, tensile_strength=5000.0)), method="nlp", options=Options(model="vertex"))
+    res = analyse(load_scene(_tall(dim, tensile_strength=5000.0)), method="nlp", options=Options(model="vertex")).data
     assert res["lp"]["alpha"] == pytest.approx(0.4, rel=1e-6)
 
 
@@ -81,7 +81,7 @@ def test_a_cohesive_stack_slides_on_its_lowest_joint(dim):
     d["joints"] = [{"between": {"tags": [t, u]}, "cohesion": 3000.0}
                    for t, u in (("course-0", "course-1"), ("course-1", "course-2"))]
     d["joints"].append({"between": {"blocks": ["base", "s0"]}, "cohesion": 3000.0})
-    res = analyse(load_scene(d), method="nlp")
+    res = analyse(load_scene(d), method="nlp").data
     want = 0.6 + 3000.0 / (3 * RHO_G * 0.3)
     assert res["lp"]["alpha"] == pytest.approx(want, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(want, rel=1e-6)
@@ -106,10 +106,10 @@ def test_a_block_held_by_mortar_alone():
     against 2.58066, so alpha = (6000 - 1765.8) / 1765.8. Dry, the dead load alone collapses
     it: the LP is infeasible and names the block."""
     W = RHO_G * 0.09
-    res = analyse(load_scene(_hanging(tensile_strength=20000.0, cohesion=15000.0)), method="nlp")
+    res = analyse(load_scene(_hanging(tensile_strength=20000.0, cohesion=15000.0)), method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx((6000.0 - W) / W, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx((6000.0 - W) / W, rel=1e-6)
-    dry = analyse(load_scene(_hanging()), method="nlp")
+    dry = analyse(load_scene(_hanging()), method="nlp").data
     assert dry["lp"]["status"] == "infeasible"
     assert "corbel" in json.dumps(dry["lp"])
 
@@ -142,7 +142,7 @@ def test_the_independent_routes_carry_the_cohesion():
     d["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "cohesion": 3000.0},
                    {"between": {"tags": ["course-1", "course-2"]}, "cohesion": 3000.0},
                    {"between": {"blocks": ["base", "s0"]}, "cohesion": 3000.0}]
-    res = analyse(load_scene(d), method="nlp", nlp_options={"global_check": True, "iterative": True})
+    res = analyse(load_scene(d), method="nlp", nlp_options={"global_check": True, "iterative": True}).data
     want = 0.6 + 3000.0 / (3 * RHO_G * 0.3)
     assert res["nlp"]["global"]["status"] == "optimal"
     assert res["nlp"]["global"]["alpha"] == pytest.approx(want, rel=1e-6)
@@ -163,7 +163,7 @@ def test_radenkovic_bound_of_a_glued_block_is_its_friction_free_slide(dim, model
     A = 0.4 if dim == 3 else 1.0
     for ft, c_eff in ((0.0, 2000.0), (1000.0, 1700.0)):
         res = analyse(load_scene(_glued(dim, cohesion=2000.0, tensile_strength=ft)), method="nlp",
-                      options=Options(model=model))
+                      options=Options(model=model)).data
         lb = res["lower_bound"]
         assert lb["method"] == "radenkovic" and lb["status"] == "optimal"
         assert lb["alpha"] == pytest.approx(c_eff * A / W, rel=1e-6)
@@ -176,16 +176,16 @@ def test_radenkovic_bound_is_absent_on_dry_joints_and_uninformative_when_frictio
     cannot carry the dead load, and the bound says so (status infeasible, alpha None).
     Inclination: gravity tilted by 10 deg (tan 10 = 0.176 < mu 0.3); c A = 100 N against the
     dead-load shear W sin 10 = 1,703 N."""
-    res = analyse(load_scene(_glued(2)), method="lp")
+    res = analyse(load_scene(_glued(2)), method="lp").data
     assert "lower_bound" not in res
     tied = _glued(2)  # a tie's capacity is no cohesion: still no bound
     tied["ties"] = [{"id": "rod", "from": {"block": "block", "point": [0.5, 0.25]},
                      "to": {"block": "base", "point": [0.5, -0.1]}, "capacity": 100.0}]
-    assert "lower_bound" not in analyse(load_scene(tied), method="lp")
+    assert "lower_bound" not in analyse(load_scene(tied), method="lp").data
     d = _glued(2, cohesion=100.0)
     g = 9.81
     d["gravity"] = [g * math.sin(math.radians(10)), -g * math.cos(math.radians(10))]
-    res = analyse(load_scene(d), method="lp")
+    res = analyse(load_scene(d), method="lp").data
     assert res["lp"]["status"] == "optimal"
     assert res["lower_bound"]["status"] == "infeasible" and res["lower_bound"]["alpha"] is None
     assert "dead load" in res["lower_bound"]["reason"]

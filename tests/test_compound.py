@@ -62,7 +62,7 @@ def test_contacts_between_parts_of_other_blocks_only():
 @pytest.mark.parametrize("builder", [l_block_2d, l_block_3d])
 @pytest.mark.parametrize("direction, alpha", [(-1.0, 1.0), (1.0, 61 / 29)])
 def test_l_block_overturns_at_the_closed_form(builder, direction, alpha):
-    res = analyse(load_scene(builder(direction)), method="nlp")
+    res = analyse(load_scene(builder(direction)), method="nlp").data
     assert res["lp"]["status"] == "optimal"
     assert res["lp"]["alpha"] == pytest.approx(alpha, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(alpha, rel=1e-6)
@@ -76,8 +76,8 @@ def test_a_box_split_into_parts_is_the_box():
     cut = copy.deepcopy(whole)
     cut["blocks"][1] = {"id": "B", "parts": [
         {"vertices": [[0, y0], [0.4, y0], [0.4, y1], [0, y1]]} for y0, y1 in ((0, 0.3), (0.3, 0.8), (0.8, 1.2))]}
-    a_whole = analyse(load_scene(whole), method="lp")["lp"]["alpha"]
-    a_cut = analyse(load_scene(cut), method="lp")["lp"]["alpha"]
+    a_whole = analyse(load_scene(whole), method="lp").data["lp"]["alpha"]
+    a_cut = analyse(load_scene(cut), method="lp").data["lp"]["alpha"]
     assert a_whole == pytest.approx(1 / 3, rel=1e-6)
     assert a_cut == pytest.approx(a_whole, rel=1e-9)
 
@@ -164,7 +164,7 @@ def test_compound_springers_arch_hinges_at_the_closed_form():
 
     ref = compound_springer_reference()
     assert ref > arch_reference(9, 1.0, 0.15) * 1.001
-    res = analyse(load_scene(compound_springer_arch()), method="nlp")
+    res = analyse(load_scene(compound_springer_arch()), method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx(ref, rel=1e-5)
     assert res["nlp"]["alpha"] == pytest.approx(ref, rel=1e-5)
 
@@ -177,7 +177,7 @@ def test_figures_and_vtk_draw_each_part_moving_with_the_block(tmp_path):
     from reports.vtk import write_vtk
 
     s = load_scene(l_block_2d())
-    res = analyse(s, method="lp")
+    res = analyse(s, method="lp").data
     mech = res["lp"]["mechanism"]
     foot, leg = _moved(s, mech, 0.1)[1]
     k_foot = int(np.argmin(np.linalg.norm(s.blocks[1].parts[0].vertices - [0.0, 0.2], axis=1)))

@@ -35,7 +35,7 @@ def test_crushing_at_a_chord_node_gives_the_closed_form(dim):
     t = _t(dim)
     W, A = RHO_G * 0.4 * t, 0.4 * t
     fc = 10 * W / (4 * A)
-    res = analyse(load_scene(_block(dim, fc=fc)), method="nlp")
+    res = analyse(load_scene(_block(dim, fc=fc)), method="nlp").data
     want = (0.4 - W / (fc * t)) / 1.0
     assert want == pytest.approx(0.24, rel=1e-12)
     assert res["lp"]["alpha"] == pytest.approx(want, rel=1e-6)
@@ -50,7 +50,7 @@ def test_between_nodes_the_chords_are_safe_and_within_their_bound(dim):
     t = _t(dim)
     W, A = RHO_G * 0.4 * t, 0.4 * t
     fc = 50000.0
-    a = analyse(load_scene(_block(dim, fc=fc)), method="lp")["lp"]["alpha"]
+    a = analyse(load_scene(_block(dim, fc=fc)), method="lp").data["lp"]["alpha"]
     exact = (0.4 - W / (fc * t)) / 1.0
     gap = 0.2 * fc * A / 4 / CRUSH_CHORDS ** 2 / (W * 0.5)
     assert exact - gap <= a <= exact * (1 + 1e-9)
@@ -70,7 +70,7 @@ def test_the_chords_bound():
 def test_a_dead_load_above_the_crushing_force_collapses_under_itself():
     """fc A < W: the base cannot carry the weight at all, so the LP is infeasible."""
     W, A = RHO_G * 0.4, 0.4
-    res = analyse(load_scene(_block(2, fc=0.9 * W / A)), method="lp")
+    res = analyse(load_scene(_block(2, fc=0.9 * W / A)), method="lp").data
     assert res["lp"]["status"] == "infeasible"
 
 
@@ -90,6 +90,6 @@ def test_the_catalog_pier_reaches_the_ntc_flexural_capacity():
     both steps (rocking only: step 2 keeps the LP's point)."""
     from scenes.catalog import CATALOG_DIR
 
-    res = analyse(load_scene(str(CATALOG_DIR / "pier-crushing-ntc-2d.json")), method="nlp")
+    res = analyse(load_scene(str(CATALOG_DIR / "pier-crushing-ntc-2d.json")), method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx(1.9584, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(1.9584, rel=1e-6)

@@ -120,7 +120,7 @@ def test_solve_reads_a_dem_result_file(tmp_path, write_scene, capsys):
 
 
 def test_an_adopted_dem_state_is_a_valid_result_file(monkeypatch):
-    from limit.analysis import analyse, public
+    from limit.analysis import analyse
     from limit import jsonio
 
     def fail(*a, **k):
@@ -128,9 +128,9 @@ def test_an_adopted_dem_state_is_a_valid_result_file(monkeypatch):
     monkeypatch.setattr(step2, "run", fail)
     monkeypatch.setattr(step2, "_large", fail)
     res = analyse(load_scene(B.side_by_side(dim=3, mu=0.5)), method="nlp",
-                  nlp_options={"dem_state": {"displacement": _mechanism(3), "source": "yade"}})
+                  nlp_options={"dem_state": {"displacement": _mechanism(3), "source": "yade"}}).data
     assert res["nlp"]["route"] == "dem-start"
-    _validate(json.loads(jsonio.dumps(public(res))))
+    _validate(json.loads(jsonio.dumps(res)))
 
 
 def _validate(result: dict) -> None:

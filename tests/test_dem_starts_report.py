@@ -7,7 +7,7 @@ import json
 import pandas as pd
 import pytest
 
-from limit.analysis import analyse, public
+from limit.analysis import analyse
 from limit.model.scene import load_scene
 from reports import dem_starts, table
 from scenes import builders as B
@@ -26,7 +26,7 @@ def scene_file(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def la(scene_file):
-    return json.loads(json.dumps(public(analyse(load_scene(scene_file), method="nlp")), default=float))
+    return json.loads(json.dumps(analyse(load_scene(scene_file), method="nlp").data, default=float))
 
 
 def _dem(alpha):

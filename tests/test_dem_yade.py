@@ -202,7 +202,7 @@ def test_running_bond_wall_3x3_against_the_nlp():
     independent vertex-model prototype: 0.389-0.394 from scratch; the report explains
     it); it must never fall below the frictional minimum."""
     scene = B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2)
-    la = analyse(load_scene(scene), method="nlp")
+    la = analyse(load_scene(scene), method="nlp").data
     a_lp, a_nlp = la["lp"]["alpha"], la["nlp"]["alpha"]
     assert la["lp"]["status"] == "optimal" and la["nlp"]["status"] == "optimal"
     assert a_nlp < 0.5 * a_lp  # a scene where friction matters

@@ -30,7 +30,7 @@ def squat(deg, sliding_faces):
 
 @pytest.mark.parametrize("deg", [0.0, 22.5, 45.0])
 def test_a_users_scene_gets_24_inscribed_faces(deg):
-    res = analyse(load_scene(squat(deg, None)), method="lp")["lp"]
+    res = analyse(load_scene(squat(deg, None)), method="lp").data["lp"]
     assert res["model"]["n_slide"] == 24 and res["model"]["slide_fit"] == "inscribed"
     c = math.cos(math.pi / 24)
     want = c * MU / max(math.cos(math.radians(deg) - 2 * math.pi * j / 24) for j in range(24))
@@ -40,14 +40,14 @@ def test_a_users_scene_gets_24_inscribed_faces(deg):
 
 @pytest.mark.parametrize("deg", [0.0, 22.5, 45.0])
 def test_a_scene_declaring_the_papers_faces_keeps_them(deg):
-    res = analyse(load_scene(squat(deg, 4)), method="lp")["lp"]
+    res = analyse(load_scene(squat(deg, 4)), method="lp").data["lp"]
     th = math.radians(deg)
     assert res["model"]["n_slide"] == 4 and res["model"]["slide_fit"] == "circumscribed"
     assert res["alpha"] == pytest.approx(MU / max(abs(math.cos(th)), abs(math.sin(th))), rel=1e-6)
 
 
 def test_options_override_the_scene():
-    res = analyse(load_scene(squat(45.0, 4)), method="lp", options=Options(n_slide=24))["lp"]
+    res = analyse(load_scene(squat(45.0, 4)), method="lp", options=Options(n_slide=24)).data["lp"]
     assert res["model"]["n_slide"] == 24 and res["alpha"] == pytest.approx(MU * math.cos(math.pi / 24), rel=1e-6)
 
 

@@ -123,7 +123,7 @@ def test_catalog_mutants_are_rejected_or_analysed():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", SceneWarning)
             try:
-                res = analyse(load_scene(mutant), method="lp")
+                res = analyse(load_scene(mutant), method="lp").data
             except SceneError:
                 counts["rejected"] += 1
                 continue
@@ -149,7 +149,7 @@ def test_load_mutants_are_rejected_or_analysed():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", SceneWarning)
             try:
-                res = analyse(load_scene(mutant), method="auto")
+                res = analyse(load_scene(mutant), method="auto").data
             except SceneError as exc:
                 counts["rejected"] += 1
                 counts["no_work"] += "does no work" in str(exc) or "no live load" in str(exc)
@@ -192,7 +192,7 @@ def test_demand_mutants_are_rejected_or_checked():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", SceneWarning)
             try:
-                res = analyse(load_scene(m), method="lp")
+                res = analyse(load_scene(m), method="lp").data
             except SceneError as exc:
                 assert "demand" in str(exc) or "ag_g" in str(exc), (k, str(exc))
                 counts["rejected"] += 1
@@ -231,7 +231,7 @@ def _analysed(m: dict, k: int, key: str, counts: dict) -> bool:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", SceneWarning)
         try:
-            res = analyse(load_scene(m), method="auto")
+            res = analyse(load_scene(m), method="auto").data
         except SceneError as exc:
             assert key in str(exc), (k, str(exc))
             counts["rejected"] += 1

@@ -399,7 +399,7 @@ def test_default_scene_is_sound(kind):
     assert d["loads"]["live"] == [{"type": "body_force", "direction": [1.0] + [0.0] * (sc.dim - 1)}]
     touching = {i for pair in find_interfaces(sc).pairs(sc) for i in pair}
     assert touching == {b.id for b in sc.blocks}
-    res = analyse(sc, method="lp")
+    res = analyse(sc, method="lp").data
     assert res["lp"]["status"] == "optimal" and 0 < res["lp"]["alpha"] < 1
     assert G.GENERATORS[kind](**d["meta"]["generator"]) == d  # meta.generator rebuilds the scene
 

@@ -16,7 +16,7 @@ from scenes.generators.reference import chain_hinge_alpha
 
 
 def _lp(d):
-    res = analyse(load_scene(d), method="lp")
+    res = analyse(load_scene(d), method="lp").data
     assert res["lp"]["status"] == "optimal"
     return res["lp"]["alpha"]
 
@@ -86,7 +86,7 @@ def test_running_bond_wall_opening_joints_by_virtual_work():
     LP gives alpha_lp = 1, the value of the whole wall overturning about its toe (centroid 0.6 m
     from the toe and 0.6 m up)."""
     d = G.wall(length=1.2, height=1.2, unit=(0.4, 0.2, 0.4), mu=1.2)
-    res = analyse(load_scene(d), method="auto")
+    res = analyse(load_scene(d), method="auto").data
     assert res["lp"]["alpha"] == pytest.approx(1.0, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(5 / 14, rel=1e-4)
 

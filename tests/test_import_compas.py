@@ -52,7 +52,7 @@ def test_a_block_model_gives_its_blocks_and_not_its_contacts(tmp_path):
     inter = find_interfaces(sc)
     assert len(inter) == 1 and inter.area[0] == pytest.approx(0.4, rel=1e-9)
     assert sum(b.fixed for b in sc.blocks) == 1 and sc.blocks[0].fixed
-    assert analyse(sc, method="lp")["lp"]["alpha"] == pytest.approx(0.4, rel=1e-6)
+    assert analyse(sc, method="lp").data["lp"]["alpha"] == pytest.approx(0.4, rel=1e-6)
 
 
 def test_a_compas1_list_of_meshes_named_by_their_attribute(tmp_path):

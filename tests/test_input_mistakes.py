@@ -137,8 +137,8 @@ def test_units_convert_every_length_to_metres(units, k):
     assert s.total_mass == pytest.approx(ref.total_mass, rel=1e-12)
     assert s.bbox() == pytest.approx(ref.bbox(), rel=1e-12)
     assert s.tolerance == pytest.approx(1e-6, rel=1e-12)
-    res = analyse(s, method="lp")
-    assert res["lp"]["alpha"] == pytest.approx(analyse(ref, method="lp")["lp"]["alpha"], rel=1e-9)
+    res = analyse(s, method="lp").data
+    assert res["lp"]["alpha"] == pytest.approx(analyse(ref, method="lp").data["lp"]["alpha"], rel=1e-9)
     assert res["units"]["length"] == "m"
     big = load_scene(l_block([0.1, 0.6], units=units, k=k))
     assert big.blocks[1].mass == pytest.approx(load_scene(l_block([0.1, 0.6])).blocks[1].mass, rel=1e-12)
@@ -172,14 +172,14 @@ def test_touches_no_other_block_names_the_gap_and_the_tolerance_key_that_closes_
     assert "block 'block' touches no other block" in msg
     assert "the nearest block, 'base', is 0.002 m away" in msg and '"tolerance": 0.00202' in msg
     d["tolerance"] = 0.00202  # what the message says closes the gap
-    res = analyse(load_scene(d), method="lp")
+    res = analyse(load_scene(d), method="lp").data
     assert res["n_interfaces"] == 1 and res["lp"]["alpha"] == pytest.approx(0.3, rel=1e-2)
 
 
 def test_a_loose_block_among_others_is_named_with_its_gap():
     d = copy.deepcopy(GOOD2)
     d["blocks"].append({"id": "float", "box": {"center": [0.4, 0.5375], "size": [0.2, 0.175]}})
-    res = analyse(load_scene(d), method="lp")
+    res = analyse(load_scene(d), method="lp").data
     assert res["lp"]["status"] == "infeasible"
     reason = res["lp"]["reason"]
     assert "float" in reason and "'c1-1', is 0.1 m away" in reason and '"tolerance"' in reason
@@ -194,7 +194,7 @@ def _overhang() -> dict:
 
 
 def test_a_dead_load_collapse_names_the_blocks_and_joints_of_its_mechanism():
-    res = analyse(load_scene(_overhang()), method="lp")
+    res = analyse(load_scene(_overhang()), method="lp").data
     lp = res["lp"]
     assert lp["status"] == "infeasible"
     dead = lp["dead_load_mechanism"]
@@ -207,7 +207,7 @@ def test_a_dead_load_collapse_names_the_blocks_and_joints_of_its_mechanism():
 
 def test_a_dead_load_collapse_in_3d_names_its_mechanism():
     d = edited(GOOD3, lambda d: d["blocks"][-1]["box"]["center"].__setitem__(0, 0.85))
-    lp = analyse(load_scene(d), method="lp")["lp"]
+    lp = analyse(load_scene(d), method="lp").data["lp"]
     assert lp["status"] == "infeasible" and lp["dead_load_mechanism"]["blocks"] == [d["blocks"][-1]["id"]]
 
 
@@ -223,7 +223,7 @@ def test_the_dead_load_figure_is_titled_as_the_dead_load_collapse():
     """The figure of an infeasible LP draws one panel, the dead-load mechanism, under its own label."""
     from reports.plots import LABELS, _panels
 
-    panels = _panels(analyse(load_scene(_overhang()), method="lp"), None)
+    panels = _panels(analyse(load_scene(_overhang()), method="lp").data, None)
     assert [p[0] for p in panels] == ["dead"] and "dead load" in LABELS["dead"]
     assert [b for b, u in panels[0][1].items() if max(map(abs, u)) > 1e-9] == ["c1-2"]
 
@@ -235,7 +235,7 @@ def test_solve_draws_the_collapse_mechanism(tmp_path, write_scene, capsys):
 
 
 def test_builders_scenes_still_carry_their_dead_load():
-    assert analyse(load_scene(B.running_bond_wall(2, 2, dim=2)), method="lp")["lp"]["status"] == "optimal"
+    assert analyse(load_scene(B.running_bond_wall(2, 2, dim=2)), method="lp").data["lp"]["status"] == "optimal"
 
 
 def test_the_direction_sweep_reads_a_direction_that_does_no_work_as_no_mechanism():

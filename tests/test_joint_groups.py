@@ -27,7 +27,7 @@ def test_a_damp_proof_course_by_tags_sets_the_sliding_load():
     d = _stack()
     d["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "mu": 0.2}]
     s = load_scene(d)
-    res = analyse(s, method="nlp")
+    res = analyse(s, method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx(0.2, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(0.2, rel=1e-6)
     from dem_validation.job import _friction_pairs
@@ -71,9 +71,9 @@ def test_mistakes_are_named(entry, match, tmp_path):
 
 def test_zero_cohesion_is_accepted_and_changes_nothing():
     d = _stack()
-    plain = analyse(load_scene(d), method="lp")["lp"]["alpha"]
+    plain = analyse(load_scene(d), method="lp").data["lp"]["alpha"]
     d["joints"] = [{"between": {"tags": ["course-0", "course-1"]}, "cohesion": 0, "tensile_strength": 0}]
-    assert analyse(load_scene(d), method="lp")["lp"]["alpha"] == pytest.approx(plain, rel=1e-12)
+    assert analyse(load_scene(d), method="lp").data["lp"]["alpha"] == pytest.approx(plain, rel=1e-12)
     assert np.isfinite(plain)
 
 
@@ -94,7 +94,7 @@ def test_a_damp_proof_course_by_plane_selects_the_joints_that_lie_in_it(dim):
     assert (mu_t == 0.3).sum() >= 3 and np.array_equal(mu_t, mu_p)
     d = _stack() if dim == 2 else B.stack(3, dim=3, b=0.5, h=0.3, mu=0.6)
     d["joints"] = [{"between": {"plane": {"point": at(0.3), "normal": up}}, "mu": 0.2}]
-    assert analyse(load_scene(d), method="nlp")["nlp"]["alpha"] == pytest.approx(0.2, rel=1e-6)
+    assert analyse(load_scene(d), method="nlp").data["nlp"]["alpha"] == pytest.approx(0.2, rel=1e-6)
     d["joints"] = [{"between": {"plane": {"point": at(0.45), "normal": up}}, "mu": 0.2}]
     with pytest.raises(SceneError, match=r"joints\[0\]\.between: selects no joint: no interface lies in the plane"):
         analyse(load_scene(d), method="lp")

@@ -22,7 +22,7 @@ def setup(d):
 @pytest.mark.parametrize("dim", [2, 3])
 def test_single_block_sliding_nlp_equals_lp_equals_mu(dim):
     mu = 0.35
-    res = analyse(load_scene(B.single_block(dim=dim, b=1.0, h=0.5, t=1.0, mu=mu)), method="nlp")
+    res = analyse(load_scene(B.single_block(dim=dim, b=1.0, h=0.5, t=1.0, mu=mu)), method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx(mu, rel=1e-6)
     assert res["nlp"]["status"] == "optimal"
     assert res["nlp"]["alpha"] == pytest.approx(mu, rel=1e-6)

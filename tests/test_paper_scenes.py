@@ -43,9 +43,9 @@ def test_fig2_textures_fail_and_carry_as_in_the_paper():
     """Fig. 2: texture (a) cannot carry the arches' weight (collapse under the dead load:
     LP infeasible); (b) carries about 15 % more than its weight (paper: 1.15 = 1 + alpha),
     with the LP and NLP close (the paper's "very small numeric difference")."""
-    a = analyse(_catalog("paper-fig2a-double-arch-2d"), method="nlp")
+    a = analyse(_catalog("paper-fig2a-double-arch-2d"), method="nlp").data
     assert a["lp"]["status"] == "infeasible"
-    b = analyse(_catalog("paper-fig2b-double-arch-2d"), method="nlp")
+    b = analyse(_catalog("paper-fig2b-double-arch-2d"), method="nlp").data
     assert b["nlp"]["status"] == "optimal"
     assert 0 < b["nlp"]["alpha"] <= b["lp"]["alpha"] * (1 + 1e-6)
     assert 1 + b["nlp"]["alpha"] == pytest.approx(1.15, rel=0.05)
@@ -57,7 +57,7 @@ def test_fig3_polygonal_walls_below_the_monolith_and_lp_acceptable():
     """Fig. 3: the wall cannot beat the monolith's overturning W/H = 0.8 and, as the paper
     found, the LP answer is acceptable: the frictional NLP stays within 5 % of it."""
     for n in (25, 40):
-        res = analyse(_catalog(f"paper-fig3-opus-poligonale-{n}-2d"), method="nlp")
+        res = analyse(_catalog(f"paper-fig3-opus-poligonale-{n}-2d"), method="nlp").data
         assert res["lp"]["status"] == "optimal" and res["nlp"]["status"] == "optimal"
         assert 0 < res["lp"]["alpha"] <= 0.8
         assert res["nlp"]["alpha"] == pytest.approx(res["lp"]["alpha"], rel=0.05)
@@ -66,7 +66,7 @@ def test_fig3_polygonal_walls_below_the_monolith_and_lp_acceptable():
 @pytest.mark.slow  # about 3 s: steps 1 and 2 on the Fig. 4 wall
 def test_fig4_opus_africanum_steps_differ():
     """Fig. 4: 'the solutions of the two steps of programming are quite different'."""
-    res = analyse(_catalog("paper-fig4-opus-africanum-2d"), method="nlp")
+    res = analyse(_catalog("paper-fig4-opus-africanum-2d"), method="nlp").data
     assert res["nlp"]["status"] == "optimal"
     assert res["nlp"]["alpha"] < 0.9 * res["lp"]["alpha"]
 
@@ -74,7 +74,7 @@ def test_fig4_opus_africanum_steps_differ():
 def test_fig5_trilithic_near_the_paper_and_the_sway_bound():
     """Fig. 5: the paper's LP gives 0.086; the frame's sway is alpha = b/H = 0.3/3.5, an
     upper bound on the LP (the LP may find a cheaper mechanism, never a dearer one)."""
-    res = analyse(_catalog("paper-fig5-trilithic-3d"), method="lp")
+    res = analyse(_catalog("paper-fig5-trilithic-3d"), method="lp").data
     assert res["lp"]["alpha"] <= 0.3 / 3.5 * (1 + 1e-6)
     assert res["lp"]["alpha"] == pytest.approx(0.086, rel=0.05)
     # the piers turn about y together (the paper: "the rotations around the y-axis of all the piers are
@@ -91,11 +91,11 @@ def test_fig7_half_model_matches_the_full_one():
     LPs differ slightly (0.14 %); with 16 sliding faces the pyramid is nearly a cone
     and they agree to 0.03 %."""
     full, half = (load_scene(PP.fig7_fountain(half=h)) for h in (False, True))
-    rf, rh = analyse(full, method="nlp"), analyse(half, method="nlp")
+    rf, rh = analyse(full, method="nlp").data, analyse(half, method="nlp").data
     assert rh["nlp"]["alpha"] == pytest.approx(rf["nlp"]["alpha"], rel=1e-4)
     assert rh["lp"]["alpha"] == pytest.approx(rf["lp"]["alpha"], rel=2e-3)
     o16 = Options(n_slide=16)
-    a16 = [analyse(s, method="lp", options=o16)["lp"]["alpha"] for s in (full, half)]
+    a16 = [analyse(s, method="lp", options=o16).data["lp"]["alpha"] for s in (full, half)]
     assert a16[1] == pytest.approx(a16[0], rel=5e-4)
     # the mirror-plane blocks do not move across the plane or turn about x or z
     for k, v in rh["lp"]["mechanism"].items():
@@ -107,9 +107,9 @@ def test_blocked_dof_changes_the_mechanism():
     """A slender block (b/h = 0.3 < mu = 0.6) rocks at alpha = b/h; with its rotation
     blocked it can only slide: alpha = mu, and the mechanism has no rotation."""
     sc = B.single_block(dim=2, b=0.3, h=1.0, mu=0.6)
-    assert analyse(load_scene(sc), method="lp")["lp"]["alpha"] == pytest.approx(0.3, rel=1e-6)
+    assert analyse(load_scene(sc), method="lp").data["lp"]["alpha"] == pytest.approx(0.3, rel=1e-6)
     sc["blocks"][1]["blocked"] = ["rz"]
-    res = analyse(load_scene(sc), method="nlp")
+    res = analyse(load_scene(sc), method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx(0.6, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(0.6, rel=1e-6)
     assert res["lp"]["mechanism"]["block"][2] == 0.0

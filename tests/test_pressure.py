@@ -29,7 +29,7 @@ def _W(dim):
 
 
 def _alpha(d, method="lp"):
-    return analyse(load_scene(d), method=method)["lp"]["alpha"]
+    return analyse(load_scene(d), method=method).data["lp"]["alpha"]
 
 
 @pytest.mark.parametrize("dim", [2, 3])

@@ -364,7 +364,7 @@ def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
     and the 2D portal, ag = 0.2 g, S = 1.2, q = 2: ag S / q = 0.2 9.81 1.2 / 2 = 1.1772 m/s^2 by
     hand) get their linear and nonlinear checks, with numbers equal to the library's
     (limit.verdict.kinematic_check on the LA's mechanism); a scene without a demand gets none."""
-    from limit.analysis import analyse, public
+    from limit.analysis import analyse
     from limit.verdict.kinematic_check import linear
     from limit.model.scene import load_scene
     from reports import plots, verdict
@@ -374,7 +374,7 @@ def test_worked_example_states_demand_formulas_and_verdicts(tmp_path):
     for name in ("wall-out-of-plane-3d", "portal-2d", "block-rocking-2d"):
         path = ROOT / "scenes" / "catalog" / f"{name}.json"
         by_name[name] = path
-        results[(name, "la")] = public(analyse(load_scene(path), method="auto"))
+        results[(name, "la")] = analyse(load_scene(path), method="auto").data
     assert "verdict" not in results[("block-rocking-2d", "la")]
     text = "\n".join(verdict.worked_example(results, by_name))
     assert "ag = 0.2 g" in text and "C8A.4.9" in text and "against 1.1772 m/s^2" in text

@@ -135,7 +135,7 @@ def test_the_damage_check_at_ground_level_uses_the_sld_hazard_without_q(tmp_path
     assert site.S == pytest.approx(1.34) and site.sld.S == pytest.approx(1.5)
     sc = B.single_block(dim=2, b=0.3, h=1.0, mu=0.6)
     sc["demand"] = {"ag_g": 0.2, "S": 1.2, "SLD": {"ag_g": 0.08}}
-    v = analyse(load_scene(sc), method="lp")["verdict"]
+    v = analyse(load_scene(sc), method="lp").data["verdict"]
     a0 = v["linear"]["a0_star"]
     dm = v["check"]["damage"]
     assert dm["demand"] == pytest.approx(0.08 * 9.81 * 1.2, rel=1e-12)

@@ -45,7 +45,7 @@ def test_confined_block_from_an_unbounded_lp(b, h, mu):
 
 
 def test_confined_block_3d_through_analyse():
-    res = analyse(load_scene(B.confined_block(3, b=0.4, h=1.0, t=0.5, mu=0.5)), method="auto")
+    res = analyse(load_scene(B.confined_block(3, b=0.4, h=1.0, t=0.5, mu=0.5)), method="auto").data
     assert res["lp"]["status"] == "unbounded"
     assert res["nlp"]["status"] == "optimal" and res["nlp"]["route"] == "iterative-lp"
     assert res["nlp"]["alpha"] == pytest.approx(0.625, rel=1e-6)

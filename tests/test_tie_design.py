@@ -56,7 +56,7 @@ def test_step_2_raises_the_lps_capacity_to_reach_the_target():
     lp_caps = out["lp_capacities"]
     for k, scale in ((1.0, 1.0), (1.0, 1.0 - 1e-3)):
         ties = [dict(c, capacity=v * scale) for c, v in zip(cands, lp_caps) if v > 0]
-        a = analyse(load_scene(dict(d, ties=ties)), method="lp")["lp"]["alpha"]
+        a = analyse(load_scene(dict(d, ties=ties)), method="lp").data["lp"]["alpha"]
         assert (a == pytest.approx(0.45, rel=1e-6)) if scale == 1.0 else a < 0.45
     assert out["factor"] > 1.0
     nlp = out["result"]["nlp"]
@@ -77,7 +77,7 @@ def test_limit_design_writes_the_designed_scene(tmp_path):
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert "rod 784.8 N" in r.stdout
-    assert analyse(load_scene(json.loads(out.read_text())), method="lp")["lp"]["alpha"] == pytest.approx(0.6, rel=1e-6)
+    assert analyse(load_scene(json.loads(out.read_text())), method="lp").data["lp"]["alpha"] == pytest.approx(0.6, rel=1e-6)
     d["ties"][0]["capacity"] = 500.0
     p.write_text(json.dumps(d))
     r = subprocess.run([sys.executable, "-m", "limit", "design", str(p), "--target-alpha", "0.6"],

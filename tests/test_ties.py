@@ -44,7 +44,7 @@ def test_a_tie_at_the_top_holds_back_overturning(dim):
     alpha = 0.4 + 0.254842; 3D: W = 2,354.4 N, alpha = 0.4 + 0.849473. Sliding would need mu + C / W
     >= 1.03 (0.9 and the tie), so rocking governs, and step 2 keeps the LP's point."""
     W = _weight(dim)
-    res = analyse(load_scene(_tied(dim, prestress=300.0)), method="nlp")
+    res = analyse(load_scene(_tied(dim, prestress=300.0)), method="nlp").data
     want = 0.4 + 2 * 1000.0 / W
     assert res["lp"]["alpha"] == pytest.approx(want, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(want, rel=1e-6)
@@ -59,7 +59,7 @@ def test_a_tie_holds_back_sliding_by_its_capacity(dim):
     tie at mid-height (horizontal: the slide stretches it by the slip; the LP's dilatant lift does
     not change its length to first order). 2D: W = 9,810 N; 3D: 3,924 N."""
     W = _weight(dim, 1.0, 0.5)
-    res = analyse(load_scene(_tied(dim, b=1.0, h=0.5, mu=0.3, height=0.25)), method="nlp")
+    res = analyse(load_scene(_tied(dim, b=1.0, h=0.5, mu=0.3, height=0.25)), method="nlp").data
     want = 0.3 + 1000.0 / W
     assert res["lp"]["alpha"] == pytest.approx(want, rel=1e-6)
     assert res["nlp"]["alpha"] == pytest.approx(want, rel=1e-6)
@@ -69,7 +69,7 @@ def test_a_tie_holds_back_sliding_by_its_capacity(dim):
 def test_a_tie_on_the_far_side_goes_slack():
     """The tie to a post on the side the block moves towards shortens as it overturns: slack, no
     force, and the block's own b / h = 0.4."""
-    res = analyse(load_scene(_tied(2, side="right")), method="nlp")
+    res = analyse(load_scene(_tied(2, side="right")), method="nlp").data
     assert res["lp"]["alpha"] == pytest.approx(0.4, rel=1e-6)
     assert res["lp"]["ties"][0]["state"] == "slack"
     assert abs(res["lp"]["ties"][0]["tension"]) < 1e-6 * 1000.0
@@ -85,7 +85,7 @@ def test_tie_points_follow_the_scenes_units():
         b["box"]["size"] = [1000 * c for c in b["box"]["size"]]
     for side in ("from", "to"):
         mm["ties"][0][side]["point"] = [1000 * c for c in mm["ties"][0][side]["point"]]
-    assert analyse(load_scene(mm), method="lp")["lp"]["alpha"] == pytest.approx(0.4 + 2000.0 / _weight(2), rel=1e-6)
+    assert analyse(load_scene(mm), method="lp").data["lp"]["alpha"] == pytest.approx(0.4 + 2000.0 / _weight(2), rel=1e-6)
 
 
 @pytest.mark.parametrize("change, match", [
@@ -137,6 +137,6 @@ def test_the_capacity_curve_is_refused_for_a_tied_scene():
     from limit.verdict.capacity_curve import follow
 
     s = load_scene(_tied(2))
-    lp = analyse(s, method="lp")["lp"]
+    lp = analyse(s, method="lp").data["lp"]
     with pytest.raises(ValueError, match="tie rods"):
         follow(s, lp["mechanism"], lp["alpha"])

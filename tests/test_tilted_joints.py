@@ -59,7 +59,7 @@ def test_a_tilted_joint_within_the_angle_tolerance_rocks_at_its_closed_form(dim)
     inter = find_interfaces(sc)
     assert len(inter) == 1
     assert inter.area[0] == pytest.approx(B_ * 1.0, rel=1e-5)  # the whole bottom (2D: 0.4 x thickness 1)
-    assert analyse(sc, method="lp")["lp"]["alpha"] == pytest.approx(_closed_form(), rel=1e-7)
+    assert analyse(sc, method="lp").data["lp"]["alpha"] == pytest.approx(_closed_form(), rel=1e-7)
 
 
 @pytest.mark.parametrize("dim", [2, 3])

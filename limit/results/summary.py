@@ -1,8 +1,10 @@
-"""The short human summary printed by ``python -m limit solve``."""
+"""The short human summary printed by ``python -m limit solve``, made from the result file's
+content alone (a fresh result and a cached one print the same)."""
 from __future__ import annotations
 
 from limit.results.result_parts import ties_line
-from limit.solve import mechanism
+
+
 def _alpha(part: dict) -> str:
     a = part.get("alpha")
     return f"alpha = {a:.6g}" if a is not None else "alpha = -"
@@ -17,11 +19,7 @@ def format_result(res: dict) -> str:
             if res["dim"] == 3 and model.get("n_slide") else "")
     lines.append(f"LP  ({lp['solver']}, {model['interfaces']} interfaces{cone}): {_alpha(lp)}  "
                  f"[{lp['status']}, {lp['time_s']:.3g} s]" + (f"  {lp['reason']}" if lp.get("reason") else ""))
-    sol = res.get("_lp_solution")
-    if lp["status"] == "optimal" and sol is not None:
-        lines.append("  mechanism (associative):")
-        lines += ["  " + s for s in mechanism.summary_lines(res["_assembled"], sol.u)]
-    elif lp["status"] == "optimal" and (lp.get("interfaces") or {}).get("pairs"):  # a result file's
+    if lp["status"] == "optimal" and (lp.get("interfaces") or {}).get("pairs"):
         lines.append("  mechanism (associative):")
         lines += ["  " + s for s in _joint_lines(lp["interfaces"], res["dim"])]
     if lp.get("ties"):
@@ -30,8 +28,11 @@ def format_result(res: dict) -> str:
     if nlp:
         lines.append(f"NLP ({nlp.get('solver', '-')}): {_alpha(nlp)}  [{nlp['status']}, {nlp.get('time_s', 0):.3g} s]"
                      + (f"  {nlp['reason']}" if nlp.get("reason") else ""))
-        if nlp.get("_summary"):
-            lines += nlp["_summary"]
+        if (nlp.get("interfaces") or {}).get("pairs"):  # step 2's own point (limit.step2._point_part)
+            lines.append("  mechanism (frictional):")
+            lines += ["  " + s for s in _joint_lines(nlp["interfaces"], res["dim"])]
+            if nlp.get("ties"):
+                lines.append(ties_line(nlp["ties"]))
         if nlp.get("alpha_arbitrary_start") is not None or nlp.get("arbitrary_start_status"):
             a = nlp.get("alpha_arbitrary_start")
             lines.append(f"  from an arbitrary start: {'alpha = %.6g' % a if a is not None else nlp['arbitrary_start_status']}")

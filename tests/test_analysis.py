@@ -1,0 +1,52 @@
+"""limit.analysis.analyse: a typed :class:`Analysis` whose ``data`` is the result file's content
+and nothing else, and the printed summary made from that content alone."""
+import dataclasses
+import json
+
+import pytest
+
+from limit import jsonio
+from limit.analysis import Analysis, analyse
+from limit.model.assemble import Assembled
+from limit.model.scene import load_scene
+from limit.results.summary import format_result
+from scenes.catalog import CATALOG_DIR
+
+
+def _keys(x):
+    """Every dict key in x, at any depth."""
+    if isinstance(x, dict):
+        for k, v in x.items():
+            yield k
+            yield from _keys(v)
+    elif isinstance(x, (list, tuple)):
+        for v in x:
+            yield from _keys(v)
+
+
+@pytest.fixture(scope="module")
+def tied():
+    """block-tied-2d with step 2: a frictional point with ties."""
+    return analyse(load_scene(str(CATALOG_DIR / "block-tied-2d.json")), method="nlp")
+
+
+def test_the_analysis_is_typed_and_its_data_holds_only_the_result(tied):
+    a = tied
+    assert isinstance(a, Analysis) and isinstance(a.P, Assembled)
+    assert a.sol.status == a.data["lp"]["status"] == "optimal" and a.data["nlp"]["status"] == "optimal"
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        a.data = {}
+    portal = analyse(load_scene(str(CATALOG_DIR / "portal-2d.json"))).data  # with a demand: a verdict part
+    for d in (a.data, portal):
+        assert not [k for k in _keys(d) if str(k).startswith("_")]
+        json.loads(jsonio.dumps(d))
+    assert "verdict" in portal
+
+
+def test_the_summary_of_a_result_file_is_that_of_the_fresh_result(tied):
+    """The print is a function of the result file's content: the cached file's (a JSON round
+    trip) equals the fresh one's, step 2's mechanism and ties included."""
+    fresh = format_result(tied.data)
+    assert format_result(json.loads(jsonio.dumps(tied.data))) == fresh
+    nlp = fresh[fresh.index("NLP"):]
+    assert "mechanism (frictional):" in nlp and "ties: rod yields" in nlp
