@@ -23,8 +23,9 @@ budgets and check tolerances: ``limit.Options(settings={"large_min_free": 100})`
 
 __version__ = "0.1.0"
 
-from limit.api import CodeCheck, Options, Result, StepResult, Verdict, analyse, load_scene  # noqa: E402
+from limit.api import CodeCheck, Options, Result, Status, StepResult, Verdict, analyse, load_scene  # noqa: E402
 from limit.errors import SceneError, SceneWarning, SolverError  # noqa: E402
 
-__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "Verdict", "CodeCheck", "SceneError", "SceneWarning",
+__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "Status", "Verdict", "CodeCheck", "SceneError",
+           "SceneWarning",
            "SolverError", "__version__"]

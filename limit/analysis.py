@@ -11,6 +11,7 @@ import time
 from dataclasses import dataclass
 
 from limit import settings, step2
+from limit.solve.status import Status
 from limit.solve import lp as lpmod
 from limit.model.assemble import Assembled, Options, assemble
 from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
@@ -57,14 +58,14 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     out = {"scene": scene.name, "dim": scene.dim, "n_blocks": scene.n_blocks,
            "n_free_blocks": int(len(scene.free)), "n_interfaces": len(P.I), "units": dict(RESULT_UNITS)}
     out["lp"] = lp_result(P, sol, attempts, residuals, time.perf_counter() - t0)
-    if sol.status == "infeasible":
+    if sol.status == Status.INFEASIBLE:
         _name_dead_mechanism(P, out["lp"])
     if method != "lp":
         out["nlp"] = step2.step2(P, sol, method=method, **(nlp_options or {}))
-        if out["nlp"].get("status") == "optimal" and out["nlp"].get("alpha") is not None and \
+        if out["nlp"].get("status") == Status.OPTIMAL and out["nlp"].get("alpha") is not None and \
                 out["nlp"]["alpha"] < -settings.of(P).tol_gap:
-            out["nlp"]["status"] = "infeasible"
-    if P.I.bonded and sol.status == "optimal":  # with cohesion the frictional alpha has a lower bound
+            out["nlp"]["status"] = Status.INFEASIBLE
+    if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic
 
         out["lower_bound"] = radenkovic.lower_bound(P, solver)

@@ -7,22 +7,23 @@ from dataclasses import dataclass, field
 
 from limit.model.assemble import Options
 from limit.model.scene import load_scene
+from limit.solve.status import ANSWERED, Status
 
-__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "CodeCheck", "Verdict"]
+__all__ = ["analyse", "load_scene", "Options", "Result", "StepResult", "CodeCheck", "Verdict", "Status"]
 
 
 @dataclass(frozen=True)
 class StepResult:
     """One step of the analysis (``lp``: step 1, ``nlp``: step 2).
 
-    ``status``: optimal | skipped (the LP's mechanism has no sliding and its point passed the
-    frictional check: it is the answer) | infeasible (the dead load alone collapses) | unbounded
-    (no mechanism) | failed (with ``reason``);
+    ``status``: a :class:`Status`: optimal | skipped (the LP's mechanism has no sliding and its
+    point passed the frictional check: it is the answer) | infeasible (the dead load alone
+    collapses) | unbounded (no mechanism) | failed (with ``reason``);
     ``alpha``: the load factor (None unless the status carries one); ``mechanism``: block
     id -> velocity (2D [ux, uy, rz], 3D [ux, uy, uz, rx, ry, rz]; unit work of the live load);
     ``data``: the whole part of the result file."""
 
-    status: str
+    status: Status
     alpha: float | None
     time_s: float | None
     reason: str
@@ -33,7 +34,7 @@ class StepResult:
     def from_dict(cls, d: dict | None) -> "StepResult | None":
         if d is None:
             return None
-        return cls(d.get("status"), d.get("alpha"), d.get("time_s"), d.get("reason", ""), d.get("mechanism"), d)
+        return cls(Status(d["status"]), d.get("alpha"), d.get("time_s"), d.get("reason", ""), d.get("mechanism"), d)
 
 
 @dataclass(frozen=True)
@@ -106,7 +107,7 @@ class Result:
 
     @property
     def alpha(self) -> float | None:
-        if self.nlp is not None and self.nlp.status in ("optimal", "skipped"):
+        if self.nlp is not None and self.nlp.status in ANSWERED:
             return self.nlp.alpha
         return self.lp.alpha if self.nlp is None else None
 
@@ -119,7 +120,7 @@ class Result:
         from limit.errors import SolverError
 
         for name, part in (("LP", self.lp), ("step 2", self.nlp)):
-            if part is not None and part.status == "failed":
+            if part is not None and part.status == Status.FAILED:
                 raise SolverError(f"{self.scene}: {name} {part.status}" + (f": {part.reason}" if part.reason else ""))
         return self
 

@@ -225,6 +225,7 @@ def cmd_design(args) -> int:
 
     from limit import jsonio
     from limit.model.scene import load_scene
+    from limit.solve.status import ANSWERED
     from limit.tie_design import design
 
     load_scene(args.scene)  # validated (exit 2 on bad input)
@@ -269,7 +270,7 @@ def cmd_design(args) -> int:
         return 1
     res = out["result"]
     nlp = res.get("nlp") or {}
-    alpha = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else res["lp"].get("alpha")
+    alpha = nlp.get("alpha") if nlp.get("status") in ANSWERED else res["lp"].get("alpha")
     print(f"designed ties (step 2's check: capacities x {out['factor']:.4g} of the LP's): " + (", ".join(
         f"{t.get('id', '?')} {t['capacity']:.6g} N" for t in out["ties"]) or "none needed"))
     print(f"alpha: LP {res['lp'].get('alpha')}, frictional {alpha} (target {out['target']:.6g}); "
@@ -356,6 +357,7 @@ def cmd_solve(args) -> int:
     from limit.analysis import analyse
     from limit.model.assemble import Options
     from limit.model.scene import load_scene
+    from limit.solve.status import Status
     from limit.results.summary import format_result
 
     if args.slide_faces is not None and (args.slide_faces < 4 or args.slide_faces % 2 or args.slide_faces > 360):
@@ -399,7 +401,7 @@ def cmd_solve(args) -> int:
         out = analyse(scene, method=args.method, options=opts, solver=args.solver, fallback=not args.no_fallback,
                       check_kinematic=args.check_kinematic, nlp_options=nlp_options).data
         print(format_result(out))
-        if cache is not None and "failed" not in (out["lp"].get("status"), (out.get("nlp") or {}).get("status")):
+        if cache is not None and Status.FAILED not in (out["lp"].get("status"), (out.get("nlp") or {}).get("status")):
             cache.put("solve", scene.name, k, out)  # a failed answer is solved again next time
     if args.json:
         jsonio.write_json(args.json, out)
@@ -411,7 +413,7 @@ def cmd_solve(args) -> int:
             print(f"no mechanism to draw: {args.plot} not written", file=sys.stderr)
         for path in written:
             print(f"wrote {path}", file=sys.stderr)
-    failed = out["lp"]["status"] == "failed" or (out.get("nlp") or {}).get("status") == "failed"
+    failed = Status.FAILED in (out["lp"]["status"], (out.get("nlp") or {}).get("status"))
     return 1 if failed else 0
 
 

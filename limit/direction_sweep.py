@@ -23,6 +23,7 @@ import time
 
 import numpy as np
 
+from limit.solve.status import ANSWERED, Status
 
 #: wall-clock cost of starting a local Dask cluster (s, measured 2-3 s on 2 cores): the sweep
 #: goes parallel only when the time it saves exceeds this (Fig. 6: 72 LPs of 30 ms took 2.6 s
@@ -81,13 +82,13 @@ def _lp_alpha(args) -> tuple:
     try:
         scene = load_scene(_turn(data, theta))
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
-        return theta, "unbounded", None, time.perf_counter() - t0, None, None
+        return theta, Status.UNBOUNDED, None, time.perf_counter() - t0, None, None
     res = analyse(scene, method="auto" if frictional else "lp",
                   nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None).data
     lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
     if not frictional:
         return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, None, None
-    fric = nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None
+    fric = nlp.get("alpha") if nlp.get("status") in ANSWERED else None
     return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, nlp.get("status"), fric
 
 
@@ -156,7 +157,7 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         src = t if t in got else (360.0 - t) % 360.0  # mirrored
         st, a, _, fst, fa = got[src]
         status.append(st)
-        alpha.append(a if st == "optimal" and a is not None else float("nan"))
+        alpha.append(a if st == Status.OPTIMAL and a is not None else float("nan"))
         fstatus.append(fst)
         falpha.append(fa if fa is not None else float("nan"))
     alpha = np.array(alpha, dtype=float)

@@ -10,6 +10,7 @@ import time
 import numpy as np
 
 from limit import settings
+from limit.solve.status import ANSWERED, Status
 from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
 from limit.results.result_parts import interfaces_part, ties_part
@@ -135,7 +136,7 @@ def _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs) -> list:
     Pc = nlp_starts.coarse_model(P, n_c)
     lp_c, _, _ = solve_lp(Pc)
     label = f"coarse-{n_c}"
-    if lp_c.status != "optimal":
+    if lp_c.status != Status.OPTIMAL:
         runs.append({"start": label, "solver": "coarse", "verified": False,
                      "reason": f"the LP with {n_c} sliding faces is {lp_c.status}"})
         return []
@@ -182,16 +183,16 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         time_budget = st.nlp_time_budget
     if global_time_limit == FROM_SETTINGS:
         global_time_limit = st.global_time_limit
-    if lp_sol.status not in ("optimal", "unbounded"):
-        status = "infeasible" if lp_sol.status == "infeasible" else "skipped"
+    if lp_sol.status not in (Status.OPTIMAL, Status.UNBOUNDED):
+        status = Status.INFEASIBLE if lp_sol.status == Status.INFEASIBLE else Status.SKIPPED
         return {"status": status, "alpha": None, "time_s": 0.0,
                 "reason": f"the LP (step 1) is {lp_sol.status}: no start for step 2"}
     n_free = P.n_dof // P.scene.ndof
-    if lp_sol.status == "unbounded":
+    if lp_sol.status == Status.UNBOUNDED:
         need, why = True, "the LP has no mechanism (sliding needs dilatancy): step 2 starts from the dead load"
     else:
         need, why = nlp.needs_nlp(P, lp_sol)
-    large = lp_sol.status == "unbounded" or (solver == "auto" and n_free >= st.large_min_free)
+    large = lp_sol.status == Status.UNBOUNDED or (solver == "auto" and n_free >= st.large_min_free)
     checked = None
     if method == "auto" and not need:  # the LP's point, checked as a frictional collapse state
         N = build(P)
@@ -199,7 +200,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         if not ok:
             need, why = True, f"the LP's point fails the frictional check ({fail})"
     if method == "auto" and not need:
-        part = {"status": "skipped", "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
+        part = {"status": Status.SKIPPED, "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
                 "verification": checked, "mechanism": mechanism.per_block(P, lp_sol.u)}
         _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
         if dem_state is not None:
@@ -218,7 +219,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
                 large, out = True, {**alt, "runs": out.get("runs", []) + alt["runs"]}
             else:
                 out = {**out, "runs": out.get("runs", []) + alt["runs"]}
-    part = {"status": "optimal" if out["ok"] else "failed", "alpha": out["alpha"] if out["ok"] else None,
+    part = {"status": Status.OPTIMAL if out["ok"] else Status.FAILED, "alpha": out["alpha"] if out["ok"] else None,
             "time_s": time.perf_counter() - t0, "solver": out.get("solver"), "start": out.get("start", "lp"),
             "route": "iterative-lp" if large else "successive-lp"}
     if large:
@@ -256,21 +257,21 @@ def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
 
     source = dem_state.get("source") or "dem"
     r = dem_start.solve(P, lp_sol, dem_state.get("displacement") or {})
-    own = part.get("alpha") if part.get("status") in ("optimal", "skipped") else None
+    own = part.get("alpha") if part.get("status") in ANSWERED else None
     entry = {"source": source, "status": r["status"], "alpha": r["alpha"], "tau": r["tau"],
              "n_flowing": r["n_flowing"], "misfit": r["misfit"], "tried": r["tried"], "time_s": r["time_s"],
              "reason": r["reason"], "adopted": False}
     if dem_state.get("alpha") is not None:
         entry["dem_alpha"] = dem_state["alpha"]
     part["dem_start"] = entry
-    if r["status"] != "optimal" or not lower(r["alpha"], own, settings.of(P).lower_by):
-        if r["status"] == "optimal":
+    if r["status"] != Status.OPTIMAL or not lower(r["alpha"], own, settings.of(P).lower_by):
+        if r["status"] == Status.OPTIMAL:
             entry["reason"] = f"verified, not below step 2's {own:.6g}"
         return entry
     N = r["N"]
     entry["adopted"] = True
     part.update(_point_part(P, N, r["z"]))
-    part.update(status="optimal", alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
+    part.update(status=Status.OPTIMAL, alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
                 verification=r["residuals"],
                 reason=(f"the {source} run's collapse state (flowing faces: multipliers above {r['tau']:g} of the "
                         f"largest, {r['n_flowing']}) gave a verified point below step 2's "
@@ -336,7 +337,7 @@ def _adopt_global(P, lp_sol, part, g, entry) -> None:
         return
     entry["adopted"] = True
     part.update(_point_part(P, N, z))
-    part.update(status="optimal", alpha=float(z[N.ia]), alpha_step2=own, route="global-milp", solver="milp",
+    part.update(status=Status.OPTIMAL, alpha=float(z[N.ia]), alpha_step2=own, route="global-milp", solver="milp",
                 verification=res,
                 reason=(f"the global MILP's point ({g['status']}; {note}) passed the check below step 2's "
                         + (f"{own:.6g}" if own is not None else "failure")))
@@ -349,9 +350,9 @@ def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit)
     n_free, most = P.n_dof // P.scene.ndof, settings.of(P).global_max_blocks
     if global_check:
         if n_free > most:
-            part["global"] = {"status": "skipped", "reason": f"{n_free} free blocks > {most}"}
+            part["global"] = {"status": Status.SKIPPED, "reason": f"{n_free} free blocks > {most}"}
         elif alpha_ub is None:  # the LP unbounded and step 2 without a point: no bound for the MILP
-            part["global"] = {"status": "skipped", "reason": "no known alpha to bound the MILP"}
+            part["global"] = {"status": Status.SKIPPED, "reason": "no known alpha to bound the MILP"}
         else:
             g = milp.global_minimum(P, alpha_ub, time_limit=time_limit)
             entry = {k: g.get(k) for k in ("status", "alpha", "bound", "time_s", "reason")}
@@ -359,8 +360,8 @@ def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit)
                 entry["gap"] = (part["alpha"] - g["alpha"]) / max(abs(g["alpha"]), 1e-12)
             _adopt_global(P, lp_sol, part, g, entry)
             part["global"] = entry
-    if iterative and lp_sol.status != "optimal":
-        part["iterative_lp"] = {"status": "skipped", "alpha": None, "reason": f"the LP is {lp_sol.status}"}
+    if iterative and lp_sol.status != Status.OPTIMAL:
+        part["iterative_lp"] = {"status": Status.SKIPPED, "alpha": None, "reason": f"the LP is {lp_sol.status}"}
     elif iterative:
         it = iterative_lp.solve(P, lp_sol)
         part["iterative_lp"] = {k: it.get(k) for k in ("status", "alpha", "iterations", "time_s", "reason")}

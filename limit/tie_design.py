@@ -27,6 +27,8 @@ import time
 
 import numpy as np
 
+from limit.solve.status import ANSWERED, Status
+
 #: relative width of the bisection on the capacities' common factor (step 2's check)
 RTOL = 1e-3
 #: doublings of the common factor before the design is given up as out of reach
@@ -70,17 +72,17 @@ def least_capacity(data: dict, candidates: list, target: float, keep: list = ())
     hi = np.concatenate([np.full(nx, np.inf), [np.inf if b is None else float(b) / wc for b in bound]])
     res = lpsub.solve(cost, Aeq, beq, Aub, bub, lo, hi, "highs")
     if not res.ok:
-        return {"status": "infeasible" if res.no_point else "failed", "capacities": None, "total": None,
+        return {"status": Status.INFEASIBLE if res.no_point else Status.FAILED, "capacities": None, "total": None,
                 "reason": res.status}
     C = wc * res.z[nx:]
     C[C < DROP * max(float(C.max(initial=0.0)), 1e-300)] = 0.0
-    return {"status": "optimal", "capacities": C.tolist(), "total": float(C.sum()), "reason": ""}
+    return {"status": Status.OPTIMAL, "capacities": C.tolist(), "total": float(C.sum()), "reason": ""}
 
 
 def _frictional(res: dict, method: str):
     """The frictional alpha of an analysis (step 2's; the LP's under ``method`` "lp"), or None."""
     step = res.get("nlp") or {}
-    a = step.get("alpha") if step.get("status") in ("optimal", "skipped") else None
+    a = step.get("alpha") if step.get("status") in ANSWERED else None
     if a is None and method == "lp":
         a = res["lp"].get("alpha")
     return a
@@ -105,7 +107,7 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
     out = {"target": target, "lp_capacities": None, "factor": None, "ties": [], "result": None,
            "trials": [], "reason": "", "time_s": None, "lp_target": target}
     lp = least_capacity(data, candidates, target, keep)
-    if lp["status"] == "optimal" and not any(c > 0 for c in lp["capacities"]):
+    if lp["status"] == Status.OPTIMAL and not any(c > 0 for c in lp["capacities"]):
         # the LP reaches the target untied; step 2 may not (friction does not dilate)
         res = analyse(load_scene(_with(data, list(keep))), method=method).data
         a = _frictional(res, method)
@@ -125,10 +127,10 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
             progress(f"the LP reaches {target:g} untied, step 2 only {a:.6g}: LP target {out['lp_target']:.6g}")
         lp = least_capacity(data, candidates, out["lp_target"], keep)
     out["lp_capacities"] = lp["capacities"]
-    if lp["status"] != "optimal":
+    if lp["status"] != Status.OPTIMAL:
         out.update(status=lp["status"], reason=("no capacities of these candidate ties reach the target: the "
                                                  "associative LP has no admissible state at alpha = "
-                                                 f"{out['lp_target']:g}" if lp["status"] == "infeasible" else lp["reason"]),
+                                                 f"{out['lp_target']:g}" if lp["status"] == Status.INFEASIBLE else lp["reason"]),
                    time_s=time.perf_counter() - t0)
         return out
     if progress:

@@ -50,3 +50,16 @@ def test_the_summary_of_a_result_file_is_that_of_the_fresh_result(tied):
     assert format_result(json.loads(jsonio.dumps(tied.data))) == fresh
     nlp = fresh[fresh.index("NLP"):]
     assert "mechanism (frictional):" in nlp and "ties: rod yields" in nlp
+
+
+def test_statuses_are_typed_and_read_as_their_strings(tied):
+    """A status is a :class:`limit.solve.status.Status`, equal to its string and written as it
+    (JSON, f-strings), so a result file reads as with bare strings; the typed result reads a
+    file's strings back as members."""
+    from limit.api import StepResult
+    from limit.solve.status import Status
+
+    s = tied.data["lp"]["status"]
+    assert s is Status.OPTIMAL and tied.sol.status is Status.OPTIMAL and tied.data["nlp"]["status"] is Status.OPTIMAL
+    assert s == "optimal" and f"{s}" == str(s) == "optimal" and json.dumps({"status": s}) == '{"status": "optimal"}'
+    assert StepResult.from_dict({"status": "skipped", "alpha": 0.3}).status is Status.SKIPPED

@@ -7,21 +7,22 @@ import numpy as np
 from limit.solve import mechanism
 from limit.model.assemble import Assembled
 from limit.model.dims import STRESS_NAMES
+from limit.solve.status import Status
 
 
 def lp_result(P: Assembled, sol, attempts, residuals, t_total: float) -> dict:
     """The ``lp`` part of the result file."""
     t = dict(P.timings)
     t.update({k: v for k, v in sol.timings.items()})
-    out = {"status": sol.status, "alpha": sol.alpha if sol.status == "optimal" else None,
+    out = {"status": sol.status, "alpha": sol.alpha if sol.status == Status.OPTIMAL else None,
            "time_s": t_total, "solver": sol.solver, "timings": t, "attempts": attempts,
            "model": {"interfaces": P.options.model, "n_slide": P.options.n_slide,
                      "slide_fit": P.options.slide_fit}}
     if sol.reason:
         out["reason"] = sol.reason
-    if sol.status == "infeasible" and sol.alpha is not None:
+    if sol.status == Status.INFEASIBLE and sol.alpha is not None:
         out["alpha_free"] = sol.alpha
-    if sol.status == "optimal":
+    if sol.status == Status.OPTIMAL:
         out["verification"] = residuals
         out["mechanism"] = mechanism.per_block(P, sol.u)
         out["normalisation"] = "unit work of the live load: fL . u = 1"

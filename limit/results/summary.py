@@ -3,6 +3,7 @@ content alone (a fresh result and a cached one print the same)."""
 from __future__ import annotations
 
 from limit.results.result_parts import ties_line
+from limit.solve.status import Status
 
 
 def _alpha(part: dict) -> str:
@@ -19,7 +20,7 @@ def format_result(res: dict) -> str:
             if res["dim"] == 3 and model.get("n_slide") else "")
     lines.append(f"LP  ({lp['solver']}, {model['interfaces']} interfaces{cone}): {_alpha(lp)}  "
                  f"[{lp['status']}, {lp['time_s']:.3g} s]" + (f"  {lp['reason']}" if lp.get("reason") else ""))
-    if lp["status"] == "optimal" and (lp.get("interfaces") or {}).get("pairs"):
+    if lp["status"] == Status.OPTIMAL and (lp.get("interfaces") or {}).get("pairs"):
         lines.append("  mechanism (associative):")
         lines += ["  " + s for s in _joint_lines(lp["interfaces"], res["dim"])]
     if lp.get("ties"):
@@ -68,7 +69,7 @@ def bound_line(lb: dict, nlp: dict | None) -> str:
             f"{'alpha = %.6g' % a if a is not None else '-'}  [{lb['status']}, {lb.get('time_s') or 0:.3g} s]")
     if a is None:
         return line + (f"  {lb['reason']}" if lb.get("reason") else "")
-    if nlp and nlp.get("status") == "optimal" and nlp.get("alpha") is not None:
+    if nlp and nlp.get("status") == Status.OPTIMAL and nlp.get("alpha") is not None:
         line += f"\n  the frictional minimum lies in [{a:.6g}, {nlp['alpha']:.6g}]"
     return line
 

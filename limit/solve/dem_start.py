@@ -29,6 +29,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from limit import settings
+from limit.solve.status import Status
 from limit.solve import nlp
 
 #: relative multiplier thresholds of the flowing set, largest first: one piece LP each
@@ -119,7 +120,7 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
     N = build(P)
     backend = backend or ("highs" if N.n <= settings.of(P).highs_max_vars else "clarabel")
     vh = dof_vector(P, displacement) * P.Df
-    out = {"status": "failed", "alpha": None, "z": None, "N": N, "tau": None, "n_flowing": 0, "how": None,
+    out = {"status": Status.FAILED, "alpha": None, "z": None, "N": N, "tau": None, "n_flowing": 0, "how": None,
            "tried": []}
     if not np.any(vh):
         return {**out, "misfit": None, "time_s": time.perf_counter() - t0,
@@ -128,7 +129,7 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
     out["misfit"] = misfit
     if lam.max(initial=0.0) <= 0.0:
         return {**out, "time_s": time.perf_counter() - t0, "reason": "no joint of the displacement flows"}
-    have_lp = lp_sol is not None and lp_sol.status == "optimal"
+    have_lp = lp_sol is not None and lp_sol.status == Status.OPTIMAL
     alpha_ref = lp_sol.alpha if have_lp else None
     statics = (lp_sol.alpha, lp_sol.x / P.Dx) if have_lp else (0.0, np.zeros(P.model.n_x))
     rungs, seen = [], set()
@@ -163,7 +164,7 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
     if best is None:
         return {**out, "reason": f"no flowing set of the displacement gave a verified point ({len(out['tried'])} tried)"}
     z, tau, n, how, res = best
-    return {**out, "status": "optimal", "alpha": float(z[N.ia]), "z": z, "tau": tau, "n_flowing": n, "how": how,
+    return {**out, "status": Status.OPTIMAL, "alpha": float(z[N.ia]), "z": z, "tau": tau, "n_flowing": n, "how": how,
             "residuals": res, "reason": ""}
 
 

@@ -38,6 +38,7 @@ import numpy as np
 
 from limit import settings
 from limit.model.assemble import Assembled
+from limit.solve.status import Status
 from limit.solve.solvers import DEFAULT_SOLVER, FALLBACK, SOLVERS  # noqa: F401  (public here too)
 
 #: solver name -> (cvxpy solver, options)
@@ -64,7 +65,7 @@ def resolve(solver: str, P: Assembled) -> str:
 class LPSolution:
     """Result of one LP solve (unscaled quantities; None where the status has none)."""
 
-    status: str                      # optimal | unbounded | infeasible | inaccurate | failed
+    status: Status                   # optimal | unbounded | infeasible | inaccurate | failed
     alpha: float | None = None
     x: np.ndarray | None = None      # interface actions (model components)
     u: np.ndarray | None = None      # mechanism, fL . u = 1
@@ -96,16 +97,16 @@ def _solve(prob: cp.Problem, solver: str, overrides: dict | None = None) -> tupl
     return status, t
 
 
-def _map_status(status: str) -> tuple[str, str]:
+def _map_status(status: str) -> tuple[Status, str]:
     if status == cp.OPTIMAL:
-        return "optimal", ""
+        return Status.OPTIMAL, ""
     if status == cp.UNBOUNDED:
-        return "unbounded", ""
+        return Status.UNBOUNDED, ""
     if status == cp.INFEASIBLE:
-        return "infeasible", ""
+        return Status.INFEASIBLE, ""
     if status in (cp.OPTIMAL_INACCURATE, cp.UNBOUNDED_INACCURATE, cp.INFEASIBLE_INACCURATE):
-        return "inaccurate", f"the solver reported {status}"
-    return "failed", f"the solver reported {status}"
+        return Status.INACCURATE, f"the solver reported {status}"
+    return Status.FAILED, f"the solver reported {status}"
 
 
 def static_lp(P: Assembled, solver: str = DEFAULT_SOLVER, overrides: dict | None = None) -> LPSolution:
@@ -121,7 +122,7 @@ def static_lp(P: Assembled, solver: str = DEFAULT_SOLVER, overrides: dict | None
     status, t = _solve(prob, solver, overrides)
     st, reason = _map_status(status)
     sol = LPSolution(st, solver=solver, cvxpy_status=str(status), reason=reason, timings=t, form="static")
-    if st in ("optimal", "inaccurate") and xh.value is not None and eq.dual_value is not None:
+    if st in (Status.OPTIMAL, Status.INACCURATE) and xh.value is not None and eq.dual_value is not None:
         _unscale(P, sol, float(a.value), xh.value, eq.dual_value, ineq.dual_value)
     return sol
 
@@ -155,10 +156,10 @@ def _static_ipm(P: Assembled, overrides: dict | None = None) -> LPSolution:
     r = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, c=P.kh, **{"almost": IPM_ALMOST, **(overrides or {})})
     t = {"compile_s": r["setup_s"], "solve_s": r["solve_s"] - r["setup_s"], "solver_total_s": r["solve_s"],
          "ipm_iterations": r["iterations"]}
-    st = "inaccurate" if r["status"] == "almost" else r["status"]
+    st = Status.INACCURATE if r["status"] == "almost" else Status(r["status"])  # ipm: optimal | failed | almost
     sol = LPSolution(st, solver="ipm", cvxpy_status=f"ipm {r['status']}", reason=r["reason"],
                      timings=t, form="static")
-    if st in ("optimal", "inaccurate"):
+    if st in (Status.OPTIMAL, Status.INACCURATE):
         _unscale(P, sol, r["alpha"], r["xh"], r["vh"], r["lamh"])
     return sol
 
@@ -177,9 +178,9 @@ def kinematic_lp(P: Assembled, solver: str = DEFAULT_SOLVER) -> LPSolution:
     st, reason = _map_status(status)
     # The kinematic LP is the dual: its "infeasible" means no mechanism (static unbounded) and
     # "unbounded" means collapse under the dead load (static infeasible).
-    st = {"infeasible": "unbounded", "unbounded": "infeasible"}.get(st, st)
+    st = {Status.INFEASIBLE: Status.UNBOUNDED, Status.UNBOUNDED: Status.INFEASIBLE}.get(st, st)
     sol = LPSolution(st, solver=solver, cvxpy_status=str(status), reason=reason, timings=t, form="kinematic")
-    if st in ("optimal", "inaccurate") and vh.value is not None:
+    if st in (Status.OPTIMAL, Status.INACCURATE) and vh.value is not None:
         sol.u = vh.value / P.Df
         sol.lam = lamh.value / P.Sy
         sol.alpha = float(-P.f0 @ sol.u + P.model.k @ sol.lam)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from limit.solve.status import Status
 from limit.solve.nlp import phase1
 from limit.solve.nlp_problem import NLPProblem
 
@@ -45,7 +46,7 @@ def reduced_friction_lp(P, factor: float):
     P2 = assemble(P.scene, P.options, interfaces=dataclasses.replace(P.I, mu=P.I.mu * factor,
                                                                        cohesion=P.I.cohesion * factor))
     sol2, _, _ = solve_lp(P2)
-    return sol2 if sol2.status == "optimal" else None
+    return sol2 if sol2.status == Status.OPTIMAL else None
 
 
 def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FACTORS) -> list:

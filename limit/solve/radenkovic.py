@@ -25,6 +25,7 @@ import time
 import numpy as np
 
 from limit.model.assemble import Assembled, assemble
+from limit.solve.status import Status
 from limit.solve import lp as lpmod
 
 
@@ -53,8 +54,8 @@ def lower_bound(P: Assembled, solver: str = lpmod.DEFAULT_SOLVER) -> dict:
     Q = assemble(P.scene, P.options, potential_interfaces(P.I))
     sol, _, _ = solve_lp(Q, solver)
     out = {"method": "radenkovic", "status": sol.status,
-           "alpha": sol.alpha if sol.status == "optimal" else None, "time_s": time.perf_counter() - t0}
-    if sol.status == "infeasible":
+           "alpha": sol.alpha if sol.status == Status.OPTIMAL else None, "time_s": time.perf_counter() - t0}
+    if sol.status == Status.INFEASIBLE:
         out["reason"] = "without friction the dead load cannot be carried: the bound is not informative"
     elif sol.reason:
         out["reason"] = sol.reason

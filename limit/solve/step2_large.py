@@ -52,6 +52,7 @@ from typing import NamedTuple
 import numpy as np
 
 from limit import settings
+from limit.solve.status import Status
 from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, piece_statics, rigid_clusters
 from limit.solve.nlp_problem import build
 
@@ -177,7 +178,7 @@ def start_nstar(P, lp_sol, factor: float) -> np.ndarray | None:
 def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
     """(label, N* per friction row) of each start (:func:`start_nstar`), or of a dead-load
     equilibrium when the LP has no optimum."""
-    if lp_sol is None or lp_sol.status != "optimal":
+    if lp_sol is None or lp_sol.status != Status.OPTIMAL:
         _, _, ncol, _ = iterative_lp.friction_rows(P)
         xh = dead_load_start(P)
         return [] if xh is None else [("dead-load", xh[ncol])]
@@ -429,7 +430,7 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     t0 = time.perf_counter()
     deadline = None if time_budget is None else t0 + time_budget
     N = build(P)
-    optimal = lp_sol is not None and lp_sol.status == "optimal"
+    optimal = lp_sol is not None and lp_sol.status == Status.OPTIMAL
     alpha_ref = lp_sol.alpha if optimal else np.inf
     cores = workers or os.cpu_count() or 1
     if factors is None:
