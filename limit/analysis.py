@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from limit import settings, step2
+from limit import step2
 from limit.solve.status import Status
 from limit.solve import lp as lpmod
 from limit.model.assemble import Assembled, Options, assemble
@@ -57,14 +57,10 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     sol, attempts, residuals = solve_lp(P, solver, fallback, check_kinematic)
     out = {"scene": scene.name, "dim": scene.dim, "n_blocks": scene.n_blocks,
            "n_free_blocks": int(len(scene.free)), "n_interfaces": len(P.I), "units": dict(RESULT_UNITS)}
-    out["lp"] = lp_result(P, sol, attempts, residuals, time.perf_counter() - t0)
-    if sol.status == Status.INFEASIBLE:
-        _name_dead_mechanism(P, out["lp"])
+    lp = lp_result(P, sol, attempts, residuals, time.perf_counter() - t0)
+    out["lp"] = _with_dead_mechanism(P, lp) if sol.status == Status.INFEASIBLE else lp
     if method != "lp":
         out["nlp"] = step2.step2(P, sol, method=method, **(nlp_options or {}))
-        if out["nlp"].get("status") == Status.OPTIMAL and out["nlp"].get("alpha") is not None and \
-                out["nlp"]["alpha"] < -settings.of(P).tol_gap:
-            out["nlp"]["status"] = Status.INFEASIBLE
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic
 
@@ -76,15 +72,16 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     return Analysis(out, P, sol)
 
 
-def _name_dead_mechanism(P, lp: dict) -> None:
-    """Add to an "infeasible" LP part the dead-load mechanism (:mod:`limit.solve.dead_mechanism`)
-    as ``dead_load_mechanism`` and name its blocks and joints in the reason."""
+def _with_dead_mechanism(P, lp: dict) -> dict:
+    """An "infeasible" LP part with the dead-load mechanism (:mod:`limit.solve.dead_mechanism`) as
+    ``dead_load_mechanism`` and its blocks and joints named in the reason (a new dict; ``lp``
+    itself where there is no such mechanism)."""
     from limit.solve import dead_mechanism
 
     u = dead_mechanism.solve(P)
     if u is None:
-        return
+        return lp
     part = dead_mechanism.describe(P, u)
-    lp["dead_load_mechanism"] = part
-    lp["reason"] = f"{lp.get('reason') or 'the dead load alone cannot be carried'}; {dead_mechanism.phrase(part)}"
+    return {**lp, "dead_load_mechanism": part,
+            "reason": f"{lp.get('reason') or 'the dead load alone cannot be carried'}; {dead_mechanism.phrase(part)}"}
 

@@ -175,7 +175,8 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     setting's); ``iterative`` the iterative LP of Gilbert et al.
     (:mod:`limit.solve.iterative_lp`). ``time_budget``: see :func:`run`. ``dem_state``
     ({"displacement": {block id: motion}, "source": "yade"|...}): a dynamic run's collapse state,
-    tried as a start by :func:`adopt_dem_state` after the rest.
+    tried as a start by :func:`adopt_dem_state` after the rest. The status is "infeasible" where
+    the LP's is, or where the answer's alpha is below zero (:func:`_settled`).
     """
     t0 = time.perf_counter()
     st = settings.of(P)
@@ -202,11 +203,10 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     if method == "auto" and not need:
         part = {"status": Status.SKIPPED, "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
                 "verification": checked, "mechanism": mechanism.per_block(P, lp_sol.u)}
-        _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
+        part = _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
         if dem_state is not None:
-            adopt_dem_state(P, lp_sol, part, dem_state)
-        part["time_s"] = time.perf_counter() - t0  # with the independent routes, as below
-        return part
+            part, _ = adopt_dem_state(P, lp_sol, part, dem_state)
+        return _settled(P, part, t0)
     small = not large  # the successive LP's route (an arbitrary start is run below only there)
     if large:
         out = _large(P, lp_sol, time_budget)
@@ -240,44 +240,50 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         arb = run(P, lp_sol, solver=solver, start="arbitrary", backend=backend, restarts=False)
         part["alpha_arbitrary_start"] = arb.get("alpha") if arb.get("ok") else None
         part["arbitrary_start_status"] = "optimal" if arb.get("ok") else f"failed: {arb.get('reason')}"
-    _independent(P, lp_sol, part, part["alpha"] if out["ok"] else lp_sol.alpha, global_check, iterative,
-                 global_time_limit)
+    part = _independent(P, lp_sol, part, part["alpha"] if out["ok"] else lp_sol.alpha, global_check, iterative,
+                        global_time_limit)
     if dem_state is not None:
-        adopt_dem_state(P, lp_sol, part, dem_state)
-    part["time_s"] = time.perf_counter() - t0
+        part, _ = adopt_dem_state(P, lp_sol, part, dem_state)
+    return _settled(P, part, t0)
+
+
+def _settled(P, part: dict, t0: float) -> dict:
+    """The finished part (a new dict): its ``time_s`` since ``t0``, the independent routes
+    included, and status "infeasible" where its verified alpha is below zero by more than the
+    setting ``tol_gap``: the dead load alone collapses the assembly (as the LP's rule,
+    :func:`limit.solve.checked_lp.solve_lp`)."""
+    part = {**part, "time_s": time.perf_counter() - t0}
+    if part["status"] == Status.OPTIMAL and part.get("alpha") is not None and part["alpha"] < -settings.of(P).tol_gap:
+        part["status"] = Status.INFEASIBLE
     return part
 
 
-def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> dict:
-    """Step 2 from a dynamic run's collapse state (:func:`limit.solve.dem_start.solve`), recorded as
-    ``part["dem_start"]``; its verified point becomes the answer, in place, where it is lower than
-    the part's alpha by more than the setting ``lower_by`` (or the part has none). ``part["alpha_step2"]`` keeps
-    the alpha it replaces. Returns the ``dem_start`` entry."""
+def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> tuple[dict, dict]:
+    """Step 2 from a dynamic run's collapse state (:func:`limit.solve.dem_start.solve`): (the part
+    with the ``dem_start`` entry, the entry), ``part`` itself unchanged. The entry's verified point
+    becomes the answer where it is lower than the part's alpha by more than the setting
+    ``lower_by`` (or the part has none); ``alpha_step2`` keeps the alpha it replaces."""
     from limit.solve import dem_start
 
     source = dem_state.get("source") or "dem"
     r = dem_start.solve(P, lp_sol, dem_state.get("displacement") or {})
     own = part.get("alpha") if part.get("status") in ANSWERED else None
+    adopt = r["status"] == Status.OPTIMAL and lower(r["alpha"], own, settings.of(P).lower_by)
+    reason = (f"verified, not below step 2's {own:.6g}" if r["status"] == Status.OPTIMAL and not adopt
+              else r["reason"])
     entry = {"source": source, "status": r["status"], "alpha": r["alpha"], "tau": r["tau"],
              "n_flowing": r["n_flowing"], "misfit": r["misfit"], "tried": r["tried"], "time_s": r["time_s"],
-             "reason": r["reason"], "adopted": False}
+             "reason": reason, "adopted": adopt}
     if dem_state.get("alpha") is not None:
         entry["dem_alpha"] = dem_state["alpha"]
-    part["dem_start"] = entry
-    if r["status"] != Status.OPTIMAL or not lower(r["alpha"], own, settings.of(P).lower_by):
-        if r["status"] == Status.OPTIMAL:
-            entry["reason"] = f"verified, not below step 2's {own:.6g}"
-        return entry
-    N = r["N"]
-    entry["adopted"] = True
-    part.update(_point_part(P, N, r["z"]))
-    part.update(status=Status.OPTIMAL, alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
-                verification=r["residuals"],
-                reason=(f"the {source} run's collapse state (flowing faces: multipliers above {r['tau']:g} of the "
-                        f"largest, {r['n_flowing']}) gave a verified point below step 2's "
-                        + (f"{own:.6g}" if own is not None else "failure")))
-    part.pop("alpha_rejected", None)
-    return entry
+    if not adopt:
+        return {**part, "dem_start": entry}, entry
+    return _answer(part, {"dem_start": entry}, _point_part(P, r["N"], r["z"]), status=Status.OPTIMAL,
+                   alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
+                   verification=r["residuals"],
+                   reason=(f"the {source} run's collapse state (flowing faces: multipliers above {r['tau']:g} of the "
+                           f"largest, {r['n_flowing']}) gave a verified point below step 2's "
+                           + (f"{own:.6g}" if own is not None else "failure"))), entry
 
 
 def prefer_large(alpha_successive: float | None, alpha_large: float | None,
@@ -319,49 +325,61 @@ def _point_part(P, N, z) -> dict:
     return out
 
 
-def _adopt_global(P, lp_sol, part, g, entry) -> None:
-    """Make the MILP's point step 2's answer, in place, where it is lower than step 2's alpha by
-    more than the setting ``lower_by`` (relative; or step 2 has none) and passes the same independent check
-    (:func:`limit.solve.nlp.finish`: the piece-LP polish, then :func:`limit.solve.nlp.check`).
-    A MILP point is a frictional collapse state like step 2's; an incumbent at the time limit
-    (no proof) counts too. ``part["alpha_step2"]`` keeps the local search's alpha."""
+def _answer(part: dict, *updates: dict, **fields) -> dict:
+    """A new part whose answer is another verified point: ``part`` updated by each of ``updates``
+    and then ``fields`` (in this order), without the ``alpha_rejected`` of a failed search."""
+    out = dict(part)
+    for u in (*updates, fields):
+        out.update(u)
+    out.pop("alpha_rejected", None)
+    return out
+
+
+def _adopt_global(P, lp_sol, part, g, entry) -> tuple[dict, dict]:
+    """(part, entry): the MILP's point made step 2's answer where it is lower than step 2's alpha
+    by more than the setting ``lower_by`` (relative; or step 2 has none) and passes the same
+    independent check (:func:`limit.solve.nlp.finish`: the piece-LP polish, then
+    :func:`limit.solve.nlp.check`), and the MILP's ``entry`` with "adopted" (and why not); new
+    dicts, the arguments unchanged. A MILP point is a frictional collapse state like step 2's; an
+    incumbent at the time limit (no proof) counts too. ``alpha_step2`` keeps the local search's
+    alpha."""
     a, own, by = g.get("alpha"), part.get("alpha"), settings.of(P).lower_by
     if g.get("z") is None or not lower(a, own, by):
-        return
+        return part, entry
     N = build(P)
     z, ok, res, why, note = nlp.finish(N, g["z"], lp_sol.alpha, "highs")
     if not ok or not lower(float(z[N.ia]), own, by):
-        entry["adopted"] = False
-        entry["reason"] = "; ".join(t for t in (entry.get("reason"), f"its point fails the check: {why}" if not ok
-                                                else "below step 2's alpha only before the polish") if t)
-        return
-    entry["adopted"] = True
-    part.update(_point_part(P, N, z))
-    part.update(status=Status.OPTIMAL, alpha=float(z[N.ia]), alpha_step2=own, route="global-milp", solver="milp",
-                verification=res,
-                reason=(f"the global MILP's point ({g['status']}; {note}) passed the check below step 2's "
-                        + (f"{own:.6g}" if own is not None else "failure")))
-    part.pop("alpha_rejected", None)
+        return part, {**entry, "adopted": False,
+                      "reason": "; ".join(t for t in (entry.get("reason"), f"its point fails the check: {why}"
+                                                      if not ok else "below step 2's alpha only before the polish")
+                                          if t)}
+    return _answer(part, _point_part(P, N, z), status=Status.OPTIMAL, alpha=float(z[N.ia]), alpha_step2=own,
+                   route="global-milp", solver="milp", verification=res,
+                   reason=(f"the global MILP's point ({g['status']}; {note}) passed the check below step 2's "
+                           + (f"{own:.6g}" if own is not None else "failure"))), {**entry, "adopted": True}
 
 
-def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit):
-    """Add the independent routes (global MILP, iterative LP) to a result part, in place. A MILP
-    point below step 2's alpha that passes the check becomes the answer (:func:`_adopt_global`)."""
+def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit) -> dict:
+    """The part with the independent routes (global MILP, iterative LP) added: a new dict, ``part``
+    unchanged. A MILP point below step 2's alpha that passes the check becomes the answer
+    (:func:`_adopt_global`)."""
     n_free, most = P.n_dof // P.scene.ndof, settings.of(P).global_max_blocks
     if global_check:
         if n_free > most:
-            part["global"] = {"status": Status.SKIPPED, "reason": f"{n_free} free blocks > {most}"}
+            part = {**part, "global": {"status": Status.SKIPPED, "reason": f"{n_free} free blocks > {most}"}}
         elif alpha_ub is None:  # the LP unbounded and step 2 without a point: no bound for the MILP
-            part["global"] = {"status": Status.SKIPPED, "reason": "no known alpha to bound the MILP"}
+            part = {**part, "global": {"status": Status.SKIPPED, "reason": "no known alpha to bound the MILP"}}
         else:
             g = milp.global_minimum(P, alpha_ub, time_limit=time_limit)
             entry = {k: g.get(k) for k in ("status", "alpha", "bound", "time_s", "reason")}
             if g.get("alpha") is not None and part.get("alpha") is not None:
                 entry["gap"] = (part["alpha"] - g["alpha"]) / max(abs(g["alpha"]), 1e-12)
-            _adopt_global(P, lp_sol, part, g, entry)
-            part["global"] = entry
+            part, entry = _adopt_global(P, lp_sol, part, g, entry)
+            part = {**part, "global": entry}
     if iterative and lp_sol.status != Status.OPTIMAL:
-        part["iterative_lp"] = {"status": Status.SKIPPED, "alpha": None, "reason": f"the LP is {lp_sol.status}"}
+        part = {**part, "iterative_lp": {"status": Status.SKIPPED, "alpha": None,
+                                         "reason": f"the LP is {lp_sol.status}"}}
     elif iterative:
         it = iterative_lp.solve(P, lp_sol)
-        part["iterative_lp"] = {k: it.get(k) for k in ("status", "alpha", "iterations", "time_s", "reason")}
+        part = {**part, "iterative_lp": {k: it.get(k) for k in ("status", "alpha", "iterations", "time_s", "reason")}}
+    return part

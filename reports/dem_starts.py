@@ -89,10 +89,8 @@ def one(data: dict, la: dict, dem: dict, engine: str, stage: str) -> dict:
     model = Options(n_slide=CONE_FACES, slide_fit="inscribed") if stage == "cone" else Options()
     P = assemble(load_scene(data), model)
     sol, _, _ = solve_lp(P)
-    part = dict(la.get("nlp") or {})
-    entry = dict(adopt_dem_state(P, sol, part, {"displacement": dem["displacement"], "source": engine}))
-    entry.pop("tried", None)
-    return entry
+    _, entry = adopt_dem_state(P, sol, la.get("nlp") or {}, {"displacement": dem["displacement"], "source": engine})
+    return {k: v for k, v in entry.items() if k != "tried"}
 
 
 def adopted_alpha(entries) -> float | None:

@@ -63,3 +63,23 @@ def test_statuses_are_typed_and_read_as_their_strings(tied):
     assert s is Status.OPTIMAL and tied.sol.status is Status.OPTIMAL and tied.data["nlp"]["status"] is Status.OPTIMAL
     assert s == "optimal" and f"{s}" == str(s) == "optimal" and json.dumps({"status": s}) == '{"status": "optimal"}'
     assert StepResult.from_dict({"status": "skipped", "alpha": 0.3}).status is Status.SKIPPED
+
+
+def test_step2_reports_a_negative_verified_alpha_as_infeasible(monkeypatch):
+    """A verified frictional point below zero (beyond tol_gap): the dead load alone collapses the
+    assembly, and step 2's own part says so (as the LP's does), so a direct caller sees it too."""
+    from limit import step2
+    from limit.analysis import solve_lp
+    from limit.model.assemble import assemble
+    from scenes import builders as B
+
+    real = step2.run
+
+    def negated(*a, **k):  # the real point, its alpha made negative
+        r = real(*a, **k)
+        return {**r, "alpha": -0.1} if r.get("ok") else r
+    monkeypatch.setattr(step2, "run", negated)
+    P = assemble(load_scene(B.side_by_side(dim=2, mu=0.5)))
+    sol, _, _ = solve_lp(P)
+    part = step2.step2(P, sol, method="nlp", global_check=False)
+    assert part["status"] == "infeasible" and part["alpha"] == -0.1 and "mechanism" in part

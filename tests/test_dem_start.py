@@ -10,6 +10,7 @@ u_A = omega x r = (h1/2, b1/2) with rz = -1; A's point at B's top corner (b1, h2
 x, and B follows it: u_B = (h2, 0), rz = 0. In 3D (the y axis out of the plane) the same motion
 is a rotation of +1 about y: [h1/2, 0, b1/2, 0, 1, 0] and [h2, 0, 0, 0, 0, 0].
 """
+import copy
 import json
 
 import numpy as np
@@ -154,3 +155,14 @@ def test_solve_rejects_a_dem_file_without_a_usable_state(tmp_path, write_scene, 
     assert main(["solve", str(scene), "--dem-start", str(dem)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: --dem-start") and frag in err
+
+
+def test_adopting_a_dem_state_makes_a_new_part():
+    """adopt_dem_state returns (part, entry) and leaves the part it is given as it was."""
+    P, sol = _setup(2)
+    part = {"status": "failed", "alpha": None, "reason": "stand-in", "alpha_rejected": 0.5}
+    before = copy.deepcopy(part)
+    new, entry = step2.adopt_dem_state(P, sol, part, {"displacement": _mechanism(2), "source": "yade"})
+    assert part == before
+    assert new["dem_start"] is entry and entry["adopted"] is True and new["route"] == "dem-start"
+    assert new["alpha"] == pytest.approx(CLOSED, rel=1e-9) and "alpha_rejected" not in new

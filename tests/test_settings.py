@@ -139,8 +139,9 @@ def test_the_global_check_size_limit_is_read_from_the_settings():
     P = assemble(load_scene(_wall()), limit.Options(settings={"global_max_blocks": 2}))
     sol, _, _ = solve_lp(P)
     part = {}
-    step2._independent(P, sol, part, sol.alpha, True, False, 1.0)
-    assert part["global"] == {"status": "skipped", "reason": "10 free blocks > 2"}
+    assert step2._independent(P, sol, part, sol.alpha, True, False, 1.0)["global"] == {
+        "status": "skipped", "reason": "10 free blocks > 2"}
+    assert part == {}  # a new part: the argument unchanged
 
 
 # -- the command line --------------------------------------------------------------------------
