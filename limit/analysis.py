@@ -66,9 +66,10 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
 
         out["lower_bound"] = radenkovic.lower_bound(P, solver)
     if verdict and scene.demand is not None:  # the code check, only for a scene that states a demand
+        from limit.incremental_curve import follow_frictional
         from limit.verdict.local_check import scene_verdict
 
-        out["verdict"] = scene_verdict(scene, out)
+        out["verdict"] = scene_verdict(scene, out, sliding=follow_frictional)
     return Analysis(out, P, sol)
 
 

@@ -210,7 +210,9 @@ def cmd_check(args) -> int:
         if own_demand and own.get("status") == "done":
             a = {k: v for k, v in own.items() if k != "status"}
         else:
-            a = verdict(scene, res, demand, args.fc)
+            from limit.incremental_curve import follow_frictional
+
+            a = verdict(scene, res, demand, args.fc, sliding=follow_frictional)
     except ValueError as exc:
         print(f"failed: {exc}", file=sys.stderr)
         return 1

@@ -70,7 +70,7 @@ class Settings:
     curve_steps: int = _s(
         20, "route", "steps",
         "equal steps of the control displacement of the incremental capacity curve "
-        "(limit.verdict.incremental_curve; sliding and mixed mechanisms): the first-order error "
+        "(limit.incremental_curve; sliding and mixed mechanisms): the first-order error "
         "against the kinematic-chain follower on portal-2d halves from 20 to 40 steps (2.6e-4 to 1.1e-4 "
         "in alpha) at twice the time (tests/test_incremental_curve.py)")
 

@@ -28,6 +28,7 @@ def kinematic_curve(scene, la: dict) -> dict | None:
     """The LA mechanism followed at finite displacement
     (:func:`limit.verdict.local_check.capacity_curve`: rocking, sliding and mixed mechanisms), or
     None: the verdict's curve when the scene states a demand, else followed here."""
+    from limit.incremental_curve import follow_frictional
     from limit.verdict.local_check import capacity_curve
 
     v = (la or {}).get("verdict") or {}
@@ -36,7 +37,7 @@ def kinematic_curve(scene, la: dict) -> dict | None:
     m = la_mechanism(la or {})
     if m is None:
         return None
-    return capacity_curve(scene, m[2], m[1])[0]
+    return capacity_curve(scene, m[2], m[1], sliding=follow_frictional)[0]
 
 
 def _demand_line(d: dict, fc: float) -> str:

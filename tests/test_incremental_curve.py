@@ -1,4 +1,4 @@
-"""The capacity curve by incremental limit analysis (limit/verdict/incremental_curve.py): step 2
+"""The capacity curve by incremental limit analysis (limit/incremental_curve.py): step 2
 re-solved on the displaced geometry, sliding and mixed mechanisms included.
 
 Closed forms (unit depth in 2D; gravity along -y in 2D, -z in 3D; horizontal body force
@@ -25,7 +25,7 @@ import pytest
 from limit.analysis import analyse
 from limit.model.scene import load_scene
 from limit.verdict.capacity_curve import follow
-from limit.verdict.incremental_curve import follow_frictional
+from limit.incremental_curve import follow_frictional
 from limit.verdict.local_check import step_mechanism
 
 
@@ -101,7 +101,7 @@ def test_the_catalogs_wall_whose_joints_open_while_they_slide_turns_about_its_to
     0.2 - 0.2 cos(theta*) + 0.6 sin(theta*) = 0.213453 m. The rocking follower refuses this
     mechanism (a joint slides)."""
     sc = load_scene("scenes/catalog/wall-3x3-opening-2d.json")
-    res = analyse(sc, verdict=False)
+    res = analyse(sc, verdict=False).data
     step, a0, mech = step_mechanism(res)
     with pytest.raises(ValueError, match="slides"):
         follow(sc, mech, a0)
@@ -118,7 +118,7 @@ def test_on_rocking_mechanisms_it_converges_to_the_kinematic_chain_follower(name
     joint equations and the work ratio, with no statics. The incremental curve (first order in
     the step) must approach it as the step shrinks."""
     sc = load_scene(f"scenes/catalog/{name}.json")
-    res = analyse(sc, verdict=False)
+    res = analyse(sc, verdict=False).data
     _, a0, mech = step_mechanism(res)
     ref = follow(sc, mech, a0)
     err = []
@@ -150,7 +150,7 @@ def test_the_code_check_of_a_mechanism_whose_joints_slide_gets_its_nonlinear_che
     data = json.load(open("scenes/catalog/wall-3x3-opening-2d.json"))
     data["demand"] = {"ag_g": 0.2, "F0": 2.5, "Tc_star": 0.4, "soil": "B", "q": 2.0, "fc": 1.35}
     sc = load_scene(data)
-    v = verdict(sc, analyse(sc, verdict=False))
+    v = verdict(sc, analyse(sc, verdict=False).data, sliding=follow_frictional)
     assert v["curve"]["method"] == "incremental" and not v["curve_reason"]
     ts = np.arctan(5 / 14)
     d0 = 0.2 - 0.2 * np.cos(ts) + 0.6 * np.sin(ts)

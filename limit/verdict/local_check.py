@@ -1,7 +1,7 @@
 """The code check of a local mechanism from an analysis result: its mechanism's linear
 kinematic quantities (:mod:`limit.verdict.kinematic_check`), its capacity curve
-(:mod:`limit.verdict.capacity_curve` for rocking mechanisms, :mod:`limit.verdict.incremental_curve`
-where a joint slides; 2D and 3D)
+(:mod:`limit.verdict.capacity_curve` for rocking mechanisms, :mod:`limit.incremental_curve`
+where a joint slides, passed in by the top-level callers; 2D and 3D)
 and the verdict against a demand (:mod:`limit.model.seismic_demand`)."""
 from __future__ import annotations
 
@@ -19,13 +19,14 @@ def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
     return None
 
 
-def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = None) -> dict:
+def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = None, sliding=None) -> dict:
     """The code check of the mechanism of an analysis result ``res`` (:func:`limit.analyse`'s,
     public or not): {"step" ("nlp" or "lp": whose mechanism), "alpha0", "linear" (M*, e*, a0*,
     ...), "curve" (alpha(d), spectral quantities; None with "curve_reason" when the mechanism
     cannot be followed), "check" (None without a demand), "demand"}. ``demand`` and ``fc``
-    default to the scene's (its "demand" key; FC 1.35). Raises ValueError when the result has
-    no mechanism (infeasible, unbounded or failed), naming its status."""
+    default to the scene's (its "demand" key; FC 1.35); ``sliding``: as :func:`capacity_curve`.
+    Raises ValueError when the result has no mechanism (infeasible, unbounded or failed), naming
+    its status."""
     from limit.verdict.kinematic_check import linear
 
     demand = scene.demand if demand is None else demand
@@ -37,38 +38,39 @@ def verdict(scene, res: dict, demand: Demand | None = None, fc: float | None = N
                          + (f" ({lp.get('reason')})" if lp.get("reason") else ""))
     step, alpha0, mech = m
     lin = linear(scene, mech, alpha0, fc)
-    curve, why = capacity_curve(scene, mech, alpha0, fc)
+    curve, why = capacity_curve(scene, mech, alpha0, fc, sliding)
     sp = (curve or {}).get("spectral") or {}
     c = check(demand, lin["a0_star"], sp.get("du_star"), sp.get("Ts"), sp.get("au_star")) if demand is not None else None
     return {"scene": scene.name, "step": step, "alpha0": alpha0, "linear": lin, "curve": curve,
             "curve_reason": why, "check": c, "demand": None if demand is None else as_dict(demand)}
 
 
-def capacity_curve(scene, mech: dict, alpha0: float, fc: float = FC_DEFAULT, options=None) -> tuple[dict | None, str]:
+def capacity_curve(scene, mech: dict, alpha0: float, fc: float = FC_DEFAULT, sliding=None) -> tuple[dict | None, str]:
     """(curve, "") of a mechanism, or (None, why not): the kinematic-chain follower
-    (:func:`limit.verdict.capacity_curve.follow`) for a rocking mechanism, the incremental limit
-    analysis (:func:`limit.verdict.incremental_curve.follow_frictional`, ``options`` its step 2's)
-    where a joint slides."""
+    (:func:`limit.verdict.capacity_curve.follow`) for a rocking mechanism; where a joint slides,
+    ``sliding(scene, alpha0, mechanism=, fc=)``, the incremental limit analysis that the top-level
+    callers pass (:func:`limit.incremental_curve.follow_frictional`: it solves step 2, a layer above
+    this one), or no curve without it."""
     from limit.verdict.capacity_curve import SlidingJoint, follow
-    from limit.verdict.incremental_curve import follow_frictional
 
     try:
         return follow(scene, mech, alpha0, fc=fc), ""
-    except SlidingJoint:
-        pass
+    except SlidingJoint as exc:
+        if sliding is None:
+            return None, str(exc)
     except ValueError as exc:
         return None, str(exc)
     try:
-        return follow_frictional(scene, alpha0, mechanism=mech, fc=fc, options=options), ""
+        return sliding(scene, alpha0, mechanism=mech, fc=fc), ""
     except ValueError as exc:
         return None, str(exc)
 
 
-def scene_verdict(scene, res: dict) -> dict:
+def scene_verdict(scene, res: dict, sliding=None) -> dict:
     """The result file's "verdict" of a scene with a demand: :func:`verdict`, or {"status":
     "failed", "reason"} when the analysis gave no mechanism to check."""
     try:
-        return {"status": "done", **verdict(scene, res)}
+        return {"status": "done", **verdict(scene, res, sliding=sliding)}
     except ValueError as exc:
         return {"status": "failed", "reason": str(exc)}
 
