@@ -29,6 +29,12 @@ from limit.solve.status import ANSWERED, Status
 #: goes parallel only when the time it saves exceeds this (Fig. 6: 72 LPs of 30 ms took 2.6 s
 #: in one process, 3.3 s on two Dask workers)
 DASK_START_S = 2.5
+#: a frictional sweep's second pass: each direction tries the collapse states of its two
+#: neighbours and of the lowest direction as starts, for at most this many rounds (a round
+#: revisits only the neighbours of directions that went lower)
+NEIGHBOUR_ROUNDS = 3
+#: wall-clock budget (s) of the successive LPs of one start, where its piece LP does not verify
+NEIGHBOUR_SLA_BUDGET = 10.0
 
 
 def _turn(data: dict, theta_deg: float, verdict: bool = False) -> dict:
@@ -68,9 +74,9 @@ def format_direction(d, digits: int = 3) -> str:
 
 
 def _lp_alpha(args) -> tuple:
-    """(theta, LP status, LP alpha, seconds, step 2's status, step 2's alpha) of one direction;
-    step 2 (method "auto": skipped where the LP's mechanism is frictional already) only when the
-    third of ``args`` asks for it, else its two entries are None."""
+    """(theta, LP status, LP alpha, seconds, step 2's status, step 2's alpha, step 2's mechanism)
+    of one direction; step 2 (method "auto": skipped where the LP's mechanism is frictional
+    already) only when the third of ``args`` asks for it, else its three entries are None."""
     from limit.analysis import analyse
     from limit.model.scene import load_scene
 
@@ -82,14 +88,41 @@ def _lp_alpha(args) -> tuple:
     try:
         scene = load_scene(_turn(data, theta))
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
-        return theta, Status.UNBOUNDED, None, time.perf_counter() - t0, None, None
+        return theta, Status.UNBOUNDED, None, time.perf_counter() - t0, None, None, None
     res = analyse(scene, method="auto" if frictional else "lp",
                   nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None).data
     lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
     if not frictional:
-        return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, None, None
+        return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, None, None, None
     fric = nlp.get("alpha") if nlp.get("status") in ANSWERED else None
-    return theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, nlp.get("status"), fric
+    return (theta, lp.get("status"), lp.get("alpha"), time.perf_counter() - t0, nlp.get("status"), fric,
+            nlp.get("mechanism") if fric is not None else None)
+
+
+def _from_starts(args) -> tuple:
+    """(theta, the lowest verified frictional alpha from the given mechanisms as starts or None,
+    its mechanism, the direction whose mechanism gave it, seconds): step 2 in direction theta from
+    the collapse states of other directions (``starts``: [(theta_j, mechanism_j)]), each tried as
+    the piece LP's flowing set (:func:`limit.solve.dem_start.solve`, as a dynamic run's state)."""
+    from limit.analysis import analyse
+    from limit.model.scene import load_scene
+    from limit.solve import dem_start, mechanism
+
+    data, theta, starts = args
+    t0 = time.perf_counter()
+    best = (None, None, None)
+    try:
+        run = analyse(load_scene(_turn(data, theta)), method="lp")
+    except Exception:  # noqa: BLE001 - a direction that cannot be analysed keeps its first answer
+        return theta, None, None, None, time.perf_counter() - t0
+    if run.sol.status != Status.OPTIMAL:
+        return theta, None, None, None, time.perf_counter() - t0
+    for th, mech in starts:
+        r = dem_start.solve(run.P, run.sol, mech, time_budget=NEIGHBOUR_SLA_BUDGET)
+        if r["status"] == Status.OPTIMAL and (best[0] is None or r["alpha"] < best[0]):
+            _, _, u, _ = r["N"].unscale(r["z"])
+            best = (float(r["alpha"]), mechanism.per_block(run.P, u), th)
+    return theta, best[0], best[1], best[2], time.perf_counter() - t0
 
 
 def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs: int | None = None,
@@ -110,7 +143,9 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     alpha can lie anywhere below the LP's, so the LP's worst direction need not be the frictional
     one); the result then also has "alpha_frictional" (NaN where step 2 has no verified point),
     "status_frictional", "min_theta_frictional", "min_alpha_frictional" and "min_frictional" (the
-    analysis at the frictional minimum, with the code check there, like "min_nlp")."""
+    analysis at the frictional minimum, with the code check there, like "min_nlp"), and
+    "neighbour_passes" (:func:`_neighbour_passes`: the directions that went lower from another
+    direction's collapse state as a start, with their alpha before and after)."""
     if data.get("dim") != 3:
         raise ValueError("dim: the direction sweep is for 3D scenes (a 2D scene's load direction is +/- x)")
     if not (0 < step_deg <= 180):
@@ -129,9 +164,12 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo)))
     got = {}
 
+    mechs = {}
+
     def record(out):
-        th, st, a, dt, fst, fa = out
+        th, st, a, dt, fst, fa, mech = out
         got[th] = (st, a, dt, fst, fa)
+        mechs[th] = mech
         if progress:
             progress(len(got), len(todo))
         return dt
@@ -140,18 +178,9 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         dt = record(_lp_alpha((data, float(t), every)))
     rest = todo[2:]
     parallel = bool(scheduler) or (bool(rest) and jobs > 1 and dt * len(rest) * (1.0 - 1.0 / jobs) > DASK_START_S)
-    if parallel:
-        from dask.distributed import as_completed
-
-        from limit.dask_pool import dask_client
-
-        with dask_client(jobs, scheduler) as client:
-            for f in as_completed(client.map(_lp_alpha, [(data, float(t), every) for t in rest], pure=False)):
-                record(f.result())
-    else:
-        jobs = 1
-        for t in rest:
-            record(_lp_alpha((data, float(t), every)))
+    jobs = jobs if parallel else 1
+    _map(_lp_alpha, [(data, float(t), every) for t in rest], record, jobs, scheduler, parallel)
+    passes = _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror) if every else None
     status, alpha, fstatus, falpha = [], [], [], []
     for t in thetas:
         src = t if t in got else (360.0 - t) % 360.0  # mirrored
@@ -167,11 +196,11 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
            "solved": len(todo), "azimuth0": _azimuth(data), "min_direction": None}
     if every:
         out.update(alpha_frictional=falpha.tolist(), status_frictional=fstatus, min_theta_frictional=None,
-                   min_alpha_frictional=None, min_frictional=None)
+                   min_alpha_frictional=None, min_frictional=None, neighbour_passes=passes)
         if np.isfinite(falpha).any():
             kf = int(np.nanargmin(falpha))
             out.update(min_theta_frictional=float(thetas[kf]), min_alpha_frictional=float(falpha[kf]),
-                       min_frictional=_at(data, float(thetas[kf])),
+                       min_frictional=_at(data, float(thetas[kf]), _start(float(thetas[kf]), mechs, passes)),
                        min_direction_frictional=_turn(data, float(thetas[kf]))["loads"]["live"][0]["direction"])
     if not np.isfinite(alpha).any():
         return {**out, "time_s": time.perf_counter() - t0}
@@ -182,10 +211,93 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
             "time_s": time.perf_counter() - t0}
 
 
-def _at(data: dict, theta: float) -> dict:
-    """The analysis in one direction (step 2 where it applies) with the code check there."""
+def _map(fn, tasks, record, jobs, scheduler, parallel) -> None:
+    """``record(fn(task))`` for every task: on Dask workers when ``parallel``, else here."""
+    if parallel and tasks:
+        from dask.distributed import as_completed
+
+        from limit.dask_pool import dask_client
+
+        with dask_client(jobs, scheduler) as client:
+            for f in as_completed(client.map(fn, tasks, pure=False)):
+                record(f.result())
+    else:
+        for t in tasks:
+            record(fn(t))
+
+
+def _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror) -> dict:
+    """The frictional sweep's second pass, in place on ``got`` and ``mechs`` (module constants
+    NEIGHBOUR_ROUNDS, NEIGHBOUR_SLA_BUDGET). Step 2 in one direction is a local search, and the
+    frictional alpha, a minimum over mechanisms of loads that turn continuously, does not jump
+    between neighbouring directions where step 2 found the same family of states: a direction
+    whose neighbour (or the lowest direction) has a lower verified state tries that state as a
+    start, and keeps it where it verifies lower (by more than the setting lower_by). Returns
+    {"rounds", "improved": {theta: [alpha before, after, the direction of the start]}, "time_s"}."""
+    from limit import settings
+
+    t0 = time.perf_counter()
+    by = settings.DEFAULT.lower_by
+    order = sorted(todo)
+    n = len(order)
+    improved, active = {}, set(order)
+    rounds = 0
+
+    def fa(t):
+        return got[t][4]
+
+    for rounds in range(1, NEIGHBOUR_ROUNDS + 1):
+        known = [t for t in order if fa(t) is not None and mechs.get(t)]
+        if not known:
+            break
+        low = min(known, key=fa)
+        tasks = []
+        for k, t in enumerate(order):
+            if t not in active:
+                continue
+            near = {order[(k - 1) % n], order[(k + 1) % n], low} if not mirror else \
+                {order[max(k - 1, 0)], order[min(k + 1, n - 1)], low}
+            starts = [(s, mechs[s]) for s in sorted(near) if s != t and s in known and
+                      (fa(t) is None or fa(s) < fa(t) - by * abs(fa(t)))]
+            if starts:
+                tasks.append((data, float(t), starts))
+        went_lower = []
+
+        def record(out):
+            th, a, mech, src, _ = out
+            old = fa(th)
+            if a is not None and (old is None or a < old - by * abs(old)):
+                st, la, dt, _, _ = got[th]
+                got[th] = (st, la, dt, Status.OPTIMAL, a)
+                mechs[th] = mech
+                first = improved.get(th, [old])[0]
+                improved[th] = [first, a, src]
+                went_lower.append(th)
+
+        _map(_from_starts, tasks, record, jobs, scheduler, parallel)
+        if not went_lower:
+            break
+        active = {order[(order.index(t) + d) % n] for t in went_lower for d in (-1, 1)}
+    return {"rounds": rounds, "improved": {f"{t:g}": v for t, v in sorted(improved.items())},
+            "time_s": time.perf_counter() - t0}
+
+
+def _start(theta, mechs, passes) -> dict | None:
+    """The collapse state that a solved direction's answer came from in the neighbour pass, as a
+    step 2 start ({"displacement", "source"}), or None where its own step 2 gave it. (The lowest
+    of mirrored equal values is the solved one, the first.)"""
+    hit = (passes or {}).get("improved", {}).get(f"{theta:g}")
+    if not hit or not mechs.get(theta):
+        return None
+    return {"displacement": mechs[theta], "source": f"the sweep's direction {hit[2]:g} deg"}
+
+
+def _at(data: dict, theta: float, start: dict | None = None) -> dict:
+    """The analysis in one direction (step 2 where it applies, also from ``start``, a collapse
+    state found in the sweep) with the code check there."""
     from limit.analysis import analyse
     from limit.model.scene import load_scene
 
-    r = analyse(load_scene(_turn(data, theta, verdict=True)), method="auto").data
+    r = analyse(load_scene(_turn(data, theta, verdict=True)), method="auto",
+                nlp_options=None if start is None else {"dem_state": start}).data
     return {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}

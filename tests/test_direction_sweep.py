@@ -127,3 +127,36 @@ def test_the_frictional_worst_direction_is_not_the_lps():
     from limit.cli import _worse_elsewhere
 
     assert _worse_elsewhere(out)
+
+
+def test_the_neighbour_pass_keeps_a_lower_verified_state_and_revisits_its_neighbours(monkeypatch):
+    """The frictional sweep's second pass (limit.direction_sweep._neighbour_passes), with the
+    solver replaced: direction 90 (step 2 gave 0.5) tries the states of 0 (0.3, the lowest) and
+    180 (0.4); the stand-in verifies 0.31 from 0's state. Then 90's neighbours (0, 180) are
+    revisited: 180 tries 90's new state (0.31 < 0.4) and 0's, and the stand-in gives nothing
+    lower. Direction 270, where step 2 verified nothing, keeps the 0.45 it gets. Directions
+    without a lower neighbour are not tried; a value that is not lower is not kept."""
+    import limit.direction_sweep as ds
+
+    calls = []
+
+    def fake(args):
+        data, theta, starts = args
+        calls.append((theta, [s for s, _ in starts]))
+        if theta == 90.0:
+            return theta, 0.31, {"b": [1.0]}, 0.0, 0.0
+        return theta, 0.45, {"b": [2.0]}, 0.0, 0.0  # verified, but not lower
+
+    monkeypatch.setattr(ds, "_from_starts", fake)
+    todo = [0.0, 90.0, 180.0, 270.0]
+    got = {0.0: ("optimal", 1.0, 0.0, "optimal", 0.3), 90.0: ("optimal", 1.0, 0.0, "optimal", 0.5),
+           180.0: ("optimal", 1.0, 0.0, "optimal", 0.4), 270.0: ("optimal", 1.0, 0.0, "failed", None)}
+    mechs = {0.0: {"b": [0.0]}, 90.0: {"b": [9.0]}, 180.0: {"b": [18.0]}, 270.0: None}
+    out = ds._neighbour_passes({}, todo, got, mechs, 1, None, False, False)
+    assert got[90.0][4] == 0.31 and mechs[90.0] == {"b": [1.0]} and got[90.0][3] == "optimal"
+    assert got[180.0][4] == 0.4 and got[0.0][4] == 0.3
+    assert out["improved"] == {"90": [0.5, 0.31, 0.0], "270": [None, 0.45, 0.0]}  # 270 had no verified point
+    first = dict(calls[:3])
+    assert first[90.0] == [0.0, 180.0] and first[180.0] == [0.0] and first[270.0] == [0.0, 180.0]
+    assert 0.0 not in first  # the lowest has no lower neighbour
+    assert (180.0, [0.0, 90.0]) in calls[3:]  # revisited once 90 went lower
