@@ -166,3 +166,25 @@ def test_adopting_a_dem_state_makes_a_new_part():
     assert part == before
     assert new["dem_start"] is entry and entry["adopted"] is True and new["route"] == "dem-start"
     assert new["alpha"] == pytest.approx(CLOSED, rel=1e-9) and "alpha_rejected" not in new
+
+
+@pytest.mark.slow  # about 25 s: step 2 in three directions of a 25-block 3D scene
+def test_a_nearby_load_directions_collapse_state_can_lower_step_2():
+    """The setting direction_starts_deg (limit.analysis._from_turned_directions): Fig. 6's step 2
+    from its own starts stops at a local minimum; with the live load turned by 5 degrees step 2
+    lands in a lower basin, and that state, tried as a start in the scene's own direction, passes
+    the independent check (limit.solve.verify: equilibrium, yield, compatibility and
+    complementarity, each within the settings' tolerances) below step 2's own alpha. Off by default."""
+    from limit.analysis import analyse
+    from limit.model.assemble import Options
+    from limit.model.scene import load_scene
+
+    sc = load_scene("scenes/catalog/paper-fig6-intersecting-walls-3d.json")
+    own = analyse(sc).data["nlp"]
+    assert "direction_starts" not in own
+    part = analyse(sc, options=Options(settings={"direction_starts_deg": 5})).data["nlp"]
+    assert part["status"] == "optimal" and part["route"] == "dem-start"
+    assert part["alpha"] < own["alpha"] * (1 - 1e-3) and part["alpha_step2"] == pytest.approx(own["alpha"])
+    assert [e["turn_deg"] for e in part["direction_starts"]] == [5, -5]
+    v = part["verification"]
+    assert max(v["equilibrium"], v["yield"], v["compatibility"], v["complementarity"]) < 1e-6
