@@ -1,13 +1,14 @@
 """``make bench``: runs every benchmark and writes its figures to bench/out/.
 
-``python -m bench.run [names...]`` runs only the named ones (interfaces, lp, nlp, step2_large, wall_family, sweep, dem, dem_models, engines, dem_family).
+``python -m bench.run [names...]`` runs only the named ones (interfaces, lp, nlp, step2_large, wall_family, sweep, capacity_curve, dem, dem_models, engines, dem_family).
 """
 from __future__ import annotations
 
 import importlib
 import sys
 
-BENCHES = ["interfaces", "lp", "nlp", "step2_large", "wall_family", "sweep", "dem", "dem_models", "engines", "dem_family"]
+BENCHES = ["interfaces", "lp", "nlp", "step2_large", "wall_family", "sweep", "capacity_curve", "dem", "dem_models", "engines",
+           "dem_family"]
 
 
 def main(argv=None) -> int:

@@ -1,6 +1,7 @@
 """The worst load direction of the paper's Fig. 6 intersecting walls: alpha(theta) every
-5 degrees over 360 (LP per direction, on Dask workers when that pays), step 2 at the minimum. Writes
-bench/out/sweep.md, sweep.csv and the polar plot sweep-fig6.png."""
+5 degrees over 360 (LP per direction, on Dask workers when that pays), step 2 at the minimum; then
+the frictional sweep (step 2 in every direction, with the neighbour pass). Writes bench/out/sweep.md,
+sweep.csv and the polar plots sweep-fig6.png and sweep-fig6-frictional.png."""
 from __future__ import annotations
 
 import json
@@ -20,6 +21,9 @@ def main() -> None:
     out = out_dir()
     data = json.loads(SCENE.read_text())
     res = sweep(data, 5.0, progress=lambda k, n: print(f"  {k}/{n} directions", end="\r", flush=True))
+    fr = sweep(data, 5.0, every=True, progress=lambda k, n: print(f"  {k}/{n} directions, step 2", end="\r", flush=True))
+    direction_polar(fr, out / "sweep-fig6-frictional.png", "Fig. 6 intersecting walls, step 2 in every direction")
+    passes = fr.get("neighbour_passes") or {}
     pd.DataFrame({"theta_deg": res["theta"], "lp_alpha": res["alpha"], "status": res["status"]}).to_csv(
         out / "sweep.csv", index=False)
     direction_polar(res, out / "sweep-fig6.png", "Fig. 6 intersecting walls")
@@ -32,7 +36,13 @@ def main() -> None:
             f"| minimum LP alpha | {res['min_alpha']:.5g} at {res['min_theta']:g} deg |\n"
             f"| frictional step 2 there | {nlp.get('alpha')} ({nlp.get('status')}) |\n"
             f"| wall clock, whole sweep | {res['time_s']:.1f} s |\n"
-            f"| LP time summed over directions | {res['lp_time_s']:.1f} s |\n\n"
-            "![polar plot](sweep-fig6.png)\n")
+            f"| LP time summed over directions | {res['lp_time_s']:.1f} s |\n"
+            f"| frictional minimum (step 2 in every direction) | {fr.get('min_alpha_frictional')} at "
+            f"{fr.get('min_theta_frictional')} deg |\n"
+            f"| frictional alpha along +x | {fr['alpha_frictional'][0]:.6g} |\n"
+            f"| directions lowered by the neighbour pass | {len(passes.get('improved', {}))} of 72, "
+            f"{passes.get('rounds')} round(s), {passes.get('time_s', 0.0):.1f} s |\n"
+            f"| wall clock, frictional sweep | {fr['time_s']:.1f} s |\n\n"
+            "![polar plot](sweep-fig6.png) ![frictional](sweep-fig6-frictional.png)\n")
     (out / "sweep.md").write_text(text)
     print(text)
