@@ -14,9 +14,10 @@ setup:
 test: setup
 	$(PY) -m pytest -q tests
 
-# the fast subset for every change: no DEM engine, no slow test (CONTRIBUTING.md)
+# the fast subset for every change: no DEM engine, no slow test (CONTRIBUTING.md), one pytest-xdist
+# worker per core (-n auto; PYTEST_XDIST_AUTO_NUM_WORKERS=N sets another number)
 test-fast: setup
-	$(PY) -m pytest -q -m "not yade and not lmgc90 and not slow" tests
+	$(PY) -m pytest -q -n auto -m "not yade and not lmgc90 and not slow" tests
 
 validate: setup
 	$(PY) -m reports.validate $(if $(JOBS),--jobs $(JOBS))
