@@ -203,15 +203,19 @@ def run_lmgc(path: str, options: dict) -> dict:
 
 
 def sweep_options(scene_data: dict) -> dict:
-    """A 3D scene asks for the worst-direction sweep with ``meta.sweep`` (``{"step": degrees}``,
-    default 5): most scenes do not need it, so it is opt-in."""
+    """A 3D scene asks for the worst-direction sweep with ``meta.sweep`` (``{"step": degrees,
+    "frictional": bool}``, default 5 and false): most scenes do not need it, so it is opt-in; with
+    ``frictional`` step 2 runs in every direction (the frictional worst direction, with the
+    neighbour pass of :mod:`limit.direction_sweep`)."""
     spec = (scene_data.get("meta") or {}).get("sweep")
-    return {"run": bool(spec) and scene_data.get("dim") == 3, "step": float((spec or {}).get("step", 5.0))}
+    return {"run": bool(spec) and scene_data.get("dim") == 3, "step": float((spec or {}).get("step", 5.0)),
+            "frictional": bool((spec or {}).get("frictional", False))}
 
 
 def run_sweep(path: str, options: dict) -> dict:
     """alpha over the horizontal directions of the live load (:func:`limit.direction_sweep.sweep`,
-    in this worker: one process), with step 2 at the minimum; ``status`` done, skipped or failed."""
+    in this worker: one process), with step 2 at the minimum (in every direction with the option
+    ``frictional``); ``status`` done, skipped or failed."""
     t0 = time.perf_counter()
     if not options["run"]:
         return {"status": "skipped", "reason": "no meta.sweep (or 2D)", "time_s": 0.0}
@@ -219,7 +223,7 @@ def run_sweep(path: str, options: dict) -> dict:
         from limit.direction_sweep import sweep
         from limit.model.scene import load_scene
 
-        res = sweep(load_scene(path).data, options["step"], jobs=1)
+        res = sweep(load_scene(path).data, options["step"], jobs=1, every=options.get("frictional", False))
         res["status"] = "done" if res["min_theta"] is not None else "failed"
         if res["status"] == "failed":
             res["reason"] = "no direction gave an optimal LP"

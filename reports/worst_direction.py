@@ -34,6 +34,16 @@ def section(results: dict, by_name: dict, figs: Path) -> list[str]:
         if li:
             fric += (f"; the code check there: a0* = {li['capacity']:.3f} against {li['demand']:.3f} m/s^2, ratio "
                      f"{li['ratio']:.2f} ({'passes' if li['pass'] else 'fails'})")
+        if res.get("min_theta_frictional") is not None:
+            at_f = ((res.get("min_frictional") or {}).get("nlp") or {})
+            moved = (res.get("neighbour_passes") or {}).get("improved") or {}
+            fric += (f"; step 2 in every direction: frictional minimum {res['min_alpha_frictional']:.4g} at "
+                     f"{res['min_theta_frictional']:g} deg"
+                     + (" (not the LP's worst direction)" if res['min_theta_frictional'] != res['min_theta'] else "")
+                     + f", along the scene's own direction {res['alpha_frictional'][0]:.4g}"
+                     + (f"; {len(moved)} direction(s) went lower from a neighbouring direction's collapse state"
+                        if moved else "")
+                     + (f" (there: {at_f.get('route')})" if at_f.get("route") == "dem-start" else ""))
         out += [f"- **{name}**: {len(res['theta'])} directions every {360 / len(res['theta']):g} degrees "
                 f"({res.get('solved', len(res['theta']))} solved" + (", the rest mirrored: declared symmetric)"
                                                                        if res.get("mirror") else ")")
@@ -51,4 +61,5 @@ def section(results: dict, by_name: dict, figs: Path) -> list[str]:
         return []
     return ["## Worst load direction (3D)", "",
             "The live body force turned about the vertical in steps; the associative LP per direction, "
-            "step 2 at the minimum (limit/direction_sweep.py).", ""] + out
+            "step 2 at the minimum, and in every direction where the scene asks (meta.sweep.frictional) "
+            "(limit/direction_sweep.py).", ""] + out

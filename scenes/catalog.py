@@ -236,7 +236,7 @@ def paper_entries() -> list:
                               "mechanism (the architraves slide on the middle columns) 3 % lower."}}))
     out.append(PP.fig6_intersecting_walls(meta={
         "title": "Fig. 6: wall held by an intersecting panel, 25 blocks, 61 joints", "figure": "Fig. 6",
-        "source": src, "sweep": {"step": 5},
+        "source": src, "sweep": {"step": 5, "frictional": True},  # step 2 in every direction (docs/performance.md)
         "published": {"alpha": None, "source": src + ", Fig. 6",
                       "note": "No alpha in the paper's text; it describes the wall rotating as a whole with the "
                               "stones at the corner turning about z."}}))

@@ -438,6 +438,30 @@ def test_sweep_stage_and_its_report_section(tmp_path):
     assert worst_direction.section({}, {"sq": path}, figs) == []
 
 
+@pytest.mark.slow  # about 10 s: step 2 in 8 directions
+def test_a_sweep_scene_may_ask_for_step_2_in_every_direction(tmp_path):
+    """meta.sweep.frictional: the sweep stage runs step 2 in every direction. The block of
+    test_frictional_sweep_runs_step_2_in_every_direction (b = 0.3, t = 0.8, h = 1, mu 0.5), every
+    90 degrees: it overturns at b/h = 0.3 along +-x and slides at mu = 0.5 along +-y (overturning
+    there needs t/h = 0.8), so the frictional minimum is 0.3 along x, and the section says so."""
+    import json
+
+    from reports import worst_direction
+    from reports.stages import run_sweep, sweep_options
+    from scenes import builders as B
+
+    data = dict(B.single_block(3, 0.3, 1.0, t=0.8, mu=0.5, name="bl"), meta={"sweep": {"step": 90, "frictional": True}})
+    path = tmp_path / "bl.json"
+    path.write_text(json.dumps(data))
+    assert sweep_options(data)["frictional"] and not sweep_options({**data, "meta": {"sweep": {}}})["frictional"]
+    res = run_sweep(str(path), sweep_options(data))
+    assert res["status"] == "done" and res["alpha_frictional"] == pytest.approx([0.3, 0.5, 0.3, 0.5], rel=1e-5)
+    figs = tmp_path / "figures"
+    figs.mkdir()
+    text = "\n".join(worst_direction.section({("bl", "sweep"): res}, {"bl": path}, figs))
+    assert "step 2 in every direction: frictional minimum 0.3 at" in text
+
+
 def test_lmgc_creep_is_a_held_trial_that_never_came_to_rest(tmp_path):
     """``lmgc_creep`` flags an LMGC90 run with a trial that held without coming to rest by
     speed (any trial: a search from a guess has no alpha = 0 trial): one that ran out its
