@@ -62,7 +62,8 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     if method != "lp":
         part = step2.step2(P, sol, method=method, **(nlp_options or {}))
         deg = settings.of(P).direction_starts_deg
-        if deg > 0 and sol.status == Status.OPTIMAL and _turnable(scene):
+        if deg > 0 and sol.status == Status.OPTIMAL and _turnable(scene) and \
+                len(scene.free) < settings.of(P).large_min_free:
             part = _from_turned_directions(scene, P, sol, part, deg, options, nlp_options)
         out["nlp"] = part
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
@@ -91,8 +92,8 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
     records them under ``direction_starts``."""
     import dataclasses
 
-    from limit.direction_sweep import _turn
     from limit.model.scene import load_scene
+    from limit.model.turned_load import turned
 
     sub_options = dataclasses.replace(options or Options(), settings=settings.of(P).replace(direction_starts_deg=0))
     sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k != "dem_state"}
@@ -101,11 +102,11 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
     entries = []
     for turn in (deg, -deg):
         try:
-            turned = load_scene(_turn(scene.data, turn))
+            turned_scene = load_scene(turned(scene.data, turn))
         except Exception as exc:  # noqa: BLE001 - a direction that cannot be built is recorded, not fatal
             entries.append({"turn_deg": turn, "status": "failed", "reason": f"{type(exc).__name__}: {exc}"})
             continue
-        nlp = _analyse(turned, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False).data.get("nlp") or {}
+        nlp = _analyse(turned_scene, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False).data.get("nlp") or {}
         if nlp.get("status") not in ANSWERED or not nlp.get("mechanism"):
             entries.append({"turn_deg": turn, "status": "failed", "alpha_there": nlp.get("alpha"),
                             "reason": f"step 2 there: {nlp.get('status')}"})

@@ -16,13 +16,13 @@ alpha(theta): only 0..180 degrees are solved and the rest is mirrored.
 """
 from __future__ import annotations
 
-import copy
 import math
 import os
 import time
 
 import numpy as np
 
+from limit.model.turned_load import turned as _turn
 from limit.solve.status import ANSWERED, Status
 
 #: wall-clock cost of starting a local Dask cluster (s, measured 2-3 s on 2 cores): the sweep
@@ -35,26 +35,6 @@ DASK_START_S = 2.5
 NEIGHBOUR_ROUNDS = 3
 #: wall-clock budget (s) of the successive LPs of one start, where its piece LP does not verify
 NEIGHBOUR_SLA_BUDGET = 10.0
-
-
-def _turn(data: dict, theta_deg: float, verdict: bool = False) -> dict:
-    """The scene dict with every live body force turned by theta about the vertical (without its
-    seismic demand unless ``verdict``: the code check is made at the minimum only)."""
-    g = np.asarray(data.get("gravity", [0.0, 0.0, -9.81]), dtype=float)
-    up = -g / np.linalg.norm(g)
-    out = copy.deepcopy(data)
-    t = math.radians(theta_deg)
-    for k, ld in enumerate(out["loads"]["live"]):
-        if ld.get("type") != "body_force":
-            raise ValueError(f"loads.live[{k}]: the direction sweep turns body forces only, not {ld.get('type')!r}")
-        d = np.asarray(ld["direction"], dtype=float)
-        v = (d @ up) * up
-        h = d - v  # Rodrigues about the vertical: h cos t + (up x h) sin t
-        ld["direction"] = (v + h * math.cos(t) + np.cross(up, h) * math.sin(t)).tolist()
-    out["name"] = f"{data.get('name', 'scene')}@{theta_deg:g}deg"
-    if not verdict:
-        out.pop("demand", None)
-    return out
 
 
 def _azimuth(data: dict) -> float | None:
@@ -78,9 +58,10 @@ def _lp_alpha(args) -> tuple:
     of one direction; step 2 (method "auto": skipped where the LP's mechanism is frictional
     already) only when the third of ``args`` asks for it, else its three entries are None."""
     from limit.analysis import analyse
+    from limit.model.assemble import Options
+    from limit.model.load_checks import NoLiveWork
     from limit.model.scene import load_scene
 
-    from limit.model.load_checks import NoLiveWork
 
     data, theta = args[:2]
     frictional = len(args) > 2 and args[2]
@@ -89,7 +70,8 @@ def _lp_alpha(args) -> tuple:
         scene = load_scene(_turn(data, theta))
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
         return theta, Status.UNBOUNDED, None, time.perf_counter() - t0, None, None, None
-    res = analyse(scene, method="auto" if frictional else "lp",
+    # the neighbour pass turns states between directions instead (direction_starts_deg off)
+    res = analyse(scene, method="auto" if frictional else "lp", options=Options(settings={"direction_starts_deg": 0}),
                   nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None).data
     lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
     if not frictional:

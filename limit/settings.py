@@ -65,11 +65,11 @@ class Settings:
         5000, "route", "free blocks",
         "from this many on (2D), each LP of the large-scale route is the proximal QP (step2_large.PROX)")
     direction_starts_deg: int = _s(
-        0, "route", "deg",
-        "3D scenes loaded by body forces: step 2 also runs with the live load turned by +- this about "
-        "the vertical and tries those collapse states as starts (limit.analysis); 0: off. Fig. 6: "
-        "0.3608 from step 2's own starts, a verified 0.2195 (9/41) from the +5 degree state "
-        "(docs/performance.md); off by default until a make validate measures the catalog with it")
+        5, "route", "deg",
+        "3D scenes loaded by body forces, below large_min_free free blocks: step 2 also runs with the "
+        "live load turned by +- this about the vertical and tries those collapse states as starts "
+        "(limit.analysis); 0: off. On the 13 3D catalog scenes it lowers one, Fig. 6, from 0.3608 to a "
+        "verified 0.2195 (9/41), at 2-3.5 times step 2's time (docs/performance.md)")
     global_max_blocks: int = _s(
         30, "route", "free blocks",
         "the mixed-integer global check (--global) runs for scenes up to this many; above it is skipped")

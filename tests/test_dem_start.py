@@ -174,15 +174,16 @@ def test_a_nearby_load_directions_collapse_state_can_lower_step_2():
     from its own starts stops at a local minimum; with the live load turned by 5 degrees step 2
     lands in a lower basin, and that state, tried as a start in the scene's own direction, passes
     the independent check (limit.solve.verify: equilibrium, yield, compatibility and
-    complementarity, each within the settings' tolerances) below step 2's own alpha. Off by default."""
+    complementarity, each within the settings' tolerances) below step 2's own alpha (the setting at
+    0: off)."""
     from limit.analysis import analyse
     from limit.model.assemble import Options
     from limit.model.scene import load_scene
 
     sc = load_scene("scenes/catalog/paper-fig6-intersecting-walls-3d.json")
-    own = analyse(sc).data["nlp"]
+    own = analyse(sc, options=Options(settings={"direction_starts_deg": 0})).data["nlp"]
     assert "direction_starts" not in own
-    part = analyse(sc, options=Options(settings={"direction_starts_deg": 5})).data["nlp"]
+    part = analyse(sc).data["nlp"]  # the default: 5 degrees
     assert part["status"] == "optimal" and part["route"] == "dem-start"
     assert part["alpha"] < own["alpha"] * (1 - 1e-3) and part["alpha_step2"] == pytest.approx(own["alpha"])
     assert [e["turn_deg"] for e in part["direction_starts"]] == [5, -5]
