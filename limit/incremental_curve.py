@@ -41,6 +41,7 @@ from limit.geom import _clip as clip
 from limit.geom.geometry import Polytope, plane_basis, polygon_area_centroid
 from limit.geom.interfaces import Interfaces, _frame_fields, find_interfaces, pieces
 from limit.model.dims import rigid_velocity
+from limit.solve.status import ANSWERED, Status
 from limit.verdict.capacity_curve import _screw, spectral
 from limit.verdict.kinematic_check import FC_DEFAULT, horizontal_direction
 
@@ -310,26 +311,15 @@ def _solve(scene, I, options=None, start: dict | None = None) -> dict:
     higher local minimum."""
     from limit import step2
     from limit.model.assemble import assemble
+    from limit.solve import lp as lpmod
     from limit.solve.checked_lp import solve_lp
 
     P = assemble(scene, options, interfaces=I)
-    sol, _, _ = solve_lp(P, _lp_solver(), True, False)
-    if sol.status not in ("optimal", "unbounded"):  # unbounded: step 2 starts from the dead load
+    sol, _, _ = solve_lp(P, lpmod.DEFAULT_SOLVER, True, False)
+    if sol.status not in (Status.OPTIMAL, Status.UNBOUNDED):  # unbounded: step 2 starts from the dead load
         return {"status": sol.status, "alpha": None, "mechanism": None}
     state = None if start is None else {"displacement": start, "source": "previous step"}
-    part = step2.step2(P, sol, method="auto", dem_state=state)
-    if part.get("status") == "skipped":  # the LP's point is the frictional one
-        from limit.results.result_parts import lp_result
-
-        lp = lp_result(P, sol, [], [], 0.0)
-        return {"status": "optimal", "alpha": lp.get("alpha"), "mechanism": lp.get("mechanism")}
-    return part
-
-
-def _lp_solver():
-    from limit.solve import lp as lpmod
-
-    return lpmod.DEFAULT_SOLVER
+    return step2.step2(P, sol, method="auto", dem_state=state)  # "skipped": the LP's point is frictional
 
 
 def _mech_array(scene, mech: dict) -> np.ndarray:
@@ -350,7 +340,7 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
     cfg = Configuration(scene, I0)
     if mechanism is None or alpha0 is None:
         first = _solve(scene, I0, options)  # step 2 as the analysis runs it
-        if first.get("status") != "optimal" or not first.get("mechanism"):
+        if first.get("status") not in ANSWERED or not first.get("mechanism"):
             raise ValueError(f"step 2 on the undeformed scene gave no mechanism ({first.get('status')})")
         alpha0, mechanism = float(first["alpha"]), first["mechanism"]
     dirn = horizontal_direction(scene)
@@ -415,11 +405,11 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
         cc.append(cfg.c[ctrl].copy())
         du = np.array([cfg.c[i] - cfg.c0[i] for i in scene.free])
         dwork.append(float(np.sum(fL[:, :d] * du)) / fl_den)
-        if part.get("status") != "optimal" or a is None:
-            al.append(0.0 if part.get("status") == "infeasible" else float("nan"))
-            stop = ("the displaced configuration cannot carry its dead load" if part.get("status") == "infeasible"
+        if part.get("status") not in ANSWERED or a is None:
+            al.append(0.0 if part.get("status") == Status.INFEASIBLE else float("nan"))
+            stop = ("the displaced configuration cannot carry its dead load" if part.get("status") == Status.INFEASIBLE
                     else f"step 2 {part.get('status')} at step {step + 1}: {part.get('reason', '')}")
-            if part.get("status") == "infeasible" and len(al) >= 3 and np.isfinite(al[-2]):
+            if part.get("status") == Status.INFEASIBLE and len(al) >= 3 and np.isfinite(al[-2]):
                 # alpha crossed 0 within the step: the secant of the last two points, inside the step
                 a1, a2 = al[-3], al[-2]
                 slope = (a2 - a1) / (ds[-2] - ds[-3]) if ds[-2] > ds[-3] else 0.0
