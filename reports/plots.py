@@ -299,10 +299,11 @@ def capacity_figure(dem: dict | None, la_alpha, path, title="", lmgc: dict | Non
                  label=f"limit analysis at finite displacement ({how})")
         if axk is not ax:
             axk.set_xlabel("control displacement (mm): live-load work / |live load|")
-            axk.set_title("the limit analysis's mechanism to alpha = 0 (capacity curve)", fontsize=9)
+            axk.set_title("the limit analysis's mechanism at finite displacement (capacity curve)", fontsize=9)
             fig.text(0.5, 0.01, "left: the engines' equilibria before collapse, at contact compliance (mm); right: rigid "
-                     "blocks after collapse starts, alpha falling with the geometry. Their peaks compare; their "
-                     "displacements do not (rigid limit analysis has no contact stiffness).", ha="center", va="bottom",
+                     "blocks after collapse starts, alpha as the geometry changes (flat where a block slides on a "
+                     "plane). Their peaks compare; their displacements do not (rigid limit analysis has no contact "
+                     "stiffness).", ha="center", va="bottom",
                      fontsize=6.5, wrap=True)
             axk.grid(True, alpha=0.3)
             axk.legend(fontsize=7, loc="upper right")
