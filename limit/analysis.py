@@ -7,6 +7,7 @@ parts are built by :mod:`limit.results.result_parts`.
 """
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass
 
@@ -74,7 +75,7 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         from limit.incremental_curve import follow_frictional
         from limit.verdict.local_check import scene_verdict
 
-        out["verdict"] = scene_verdict(scene, out, sliding=follow_frictional)
+        out["verdict"] = scene_verdict(scene, out, sliding=functools.partial(follow_frictional, options=options))
     return Analysis(out, P, sol)
 
 

@@ -115,6 +115,8 @@ def _parser() -> argparse.ArgumentParser:
     pc.add_argument("--xi-mech", type=float, default=0.08,
                     help="mechanism's damping ratio at SLV, a fraction (default 0.08): nonlinear check above ground")
     pc.add_argument("--json", metavar="OUT.json", help="write the assessment as JSON")
+    pc.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="change a setting (repeatable), as for solve: e.g. curve_steps, curve_time_budget")
     pw = sub.add_parser("sweep", help="3D: alpha over the horizontal directions of the live load, its minimum")
     pw.add_argument("scene")
     pw.add_argument("--step", type=float, default=5.0, help="degrees between directions (default 5)")
@@ -203,16 +205,21 @@ def cmd_check(args) -> int:
                                                                              "--topography-ratio")
                              .replace("demand.", "--")) from None
     scene = load_scene(args.scene, strict=args.strict)
+    from limit.model.assemble import Options
+
+    opts = Options(settings=settings_of_args(args))  # a bad --set is rejected input (exit 2)
     try:
         own_demand = demand is None and args.fc is None  # the scene's demand: its check is made by analyse
-        res = analyse(scene, method=args.method, verdict=own_demand).data
+        res = analyse(scene, method=args.method, options=opts, verdict=own_demand).data
         own = res.get("verdict") or {}
         if own_demand and own.get("status") == "done":
             a = {k: v for k, v in own.items() if k != "status"}
         else:
+            import functools
+
             from limit.incremental_curve import follow_frictional
 
-            a = verdict(scene, res, demand, args.fc, sliding=follow_frictional)
+            a = verdict(scene, res, demand, args.fc, sliding=functools.partial(follow_frictional, options=opts))
     except ValueError as exc:
         print(f"failed: {exc}", file=sys.stderr)
         return 1

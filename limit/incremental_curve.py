@@ -19,8 +19,8 @@ every free block then moves by the exact screw motion of its mechanism twist
 displacement (its work per unit of its magnitude) advances by the step ``h`` (forward Euler on
 the configuration): every collapse mechanism advances it, whichever block moves most. Each
 step's step 2 has the previous configuration's mechanism as a start
-(:func:`limit.step2.adopt_dem_state`) and, unless the caller's options say otherwise, runs
-without the large-scale route's extra starts (the setting ``also_iterative``). The gap tolerance ``g`` is a quarter of the largest point displacement of a
+(:func:`limit.step2.adopt_dem_state`) and runs without the large-scale route's extra starts (the
+setting ``also_iterative`` off; the caller's other settings kept). The gap tolerance ``g`` is a quarter of the largest point displacement of a
 step, so that the first-order drift of a hinge over a step stays in contact; it is at least
 the scene's ``tolerance``.
 
@@ -45,6 +45,11 @@ from limit.solve.status import ANSWERED, Status
 from limit.verdict.capacity_curve import _screw, spectral
 from limit.verdict.kinematic_check import FC_DEFAULT, horizontal_direction
 
+#: a step after which alpha rises by more than JUMP x alpha0 is redone at half its size, up to
+#: JUMP_HALVINGS times: step 2 at the new configuration missed the state the curve follows (the
+#: 3 x 3 opening wall in 10 steps: 0.30 then 0.82, where 20 steps follow its toe rotation to 0)
+JUMP = 0.05
+JUMP_HALVINGS = 3
 #: a curve takes at most this many times its ``steps`` (steps shrink where the mechanism narrows)
 MAX_STEPS = 4
 #: a face of a block forms a joint's side when its outward normal is within this of the
@@ -370,10 +375,11 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
     ds, al, rot, dwork, cc = [0.0], [float(alpha0)], [0.0], [0.0], [cfg.c[ctrl].copy()]
     d0, stop, solves = None, (f"the curve reached its span ({span:.4g} m of the control point's start) with alpha no "
                               "longer falling"), 0
-    if options is None:  # each step starts from the previous one's mechanism: no extra route
-        from limit.model.assemble import Options
+    # each step starts from the previous one's mechanism: no extra route
+    from limit.model.assemble import Options
 
-        options = Options(settings={"also_iterative": False})
+    base = options or Options()
+    options = dataclasses.replace(base, settings=base.settings.replace(also_iterative=False))
     U, prev, fL_now = U0, mechanism, fL
     done = 0.0  # the live load's work-conjugate displacement so far
     for step in range(MAX_STEPS * steps):
@@ -389,17 +395,22 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
         Us = U / rate
         vmax = cfg.corner_speed(Us)
         hs = min(h, delta / vmax) if vmax > 0 else h
-        move = hs * vmax
-        cfg.move(Us, hs)
+        saved = (cfg.c.copy(), cfg.R.copy())
+        for halving in range(JUMP_HALVINGS + 1):
+            move = hs * vmax
+            cfg.move(Us, hs)
+            now = cfg.scene_now()
+            try:
+                part = _solve(now, cfg.contacts(max(scene.tolerance, 0.25 * move)), options, prev)
+            except Exception as exc:  # a block that lost every contact, a failed assembly
+                part = {"status": Status.FAILED, "reason": f"no solution: {exc}"}
+            solves += 1
+            a = part.get("alpha")
+            if not (a is not None and a > al[-1] + JUMP * abs(al[0])) or halving == JUMP_HALVINGS:
+                break
+            cfg.c, cfg.R = saved[0].copy(), saved[1].copy()  # a jump up: redo the step at half its size
+            hs *= 0.5
         done += hs
-        now = cfg.scene_now()
-        try:
-            part = _solve(now, cfg.contacts(max(scene.tolerance, 0.25 * move)), options, prev)
-        except Exception as exc:  # a block that lost every contact, a failed assembly
-            stop = f"no solution at step {step + 1}: {exc}"
-            break
-        solves += 1
-        a = part.get("alpha")
         ds.append(float(cfg.c[ctrl] @ dirn) - x0)
         rot.append(_angle(cfg.R[ctrl], d))
         cc.append(cfg.c[ctrl].copy())
