@@ -104,7 +104,8 @@ def entries(references: dict | None = None) -> dict:
     oop["loads"]["live"] = [{"type": "body_force", "direction": [0.0, 1.0, 0.0]}]
     oop["demand"] = dict(EXAMPLE_DEMAND)
     oop["symmetry"] = "mirror"  # about the vertical plane x = 1.2 m (checked by limit.verdict.symmetry)
-    oop["meta"] = {"sweep": {"step": 5},  # the worst direction: half the circle solved, by the symmetry
+    # the worst direction, step 2 in each direction: half the circle solved, by the symmetry
+    oop["meta"] = {"sweep": {"step": 5, "frictional": True},
                    # the MILP runs here (27 free blocks): its best checked state and proven bound, an interval
                    "la": {"global_max_free": 27, "global_time_limit": 400.0, "cost_s": 420.0},
                    "notes": "The LP's mechanism (overturning about the base edge, t/H) has no sliding, and step 2 "
