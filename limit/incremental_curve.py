@@ -39,7 +39,7 @@ import numpy as np
 
 from limit.geom import _clip as clip
 from limit.geom.geometry import Polytope, plane_basis, polygon_area_centroid
-from limit.geom.interfaces import Interfaces, _frame_fields, find_interfaces, pieces
+from limit.geom.interfaces import Interfaces, _frame_fields, find_interfaces
 from limit.model.dims import rigid_velocity
 from limit.solve.status import ANSWERED, Status
 from limit.verdict.capacity_curve import _screw, spectral
