@@ -42,7 +42,7 @@ from limit.geom.geometry import Polytope, plane_basis, polygon_area_centroid
 from limit.geom.interfaces import Interfaces, _frame_fields, find_interfaces
 from limit.model.dims import rigid_velocity
 from limit.solve.status import ANSWERED, Status
-from limit.verdict.capacity_curve import _screw, spectral
+from limit.verdict.capacity_curve import _screw, rotation_angle, spectral
 from limit.verdict.kinematic_check import FC_DEFAULT, horizontal_direction
 
 #: a step after which alpha rises by more than JUMP x alpha0 is redone at half its size, up to
@@ -223,8 +223,8 @@ class Configuration:
         centroid, ``mech`` (n_free, nd), held for h."""
         d = self.d
         for k, i in enumerate(self.scene.free):
-            u, w = mech[k, :d], (mech[k, 2] if d == 2 else mech[k, 3:])
-            vo = u - (w * np.array([-self.c[i][1], self.c[i][0]]) if d == 2 else np.cross(w, self.c[i]))
+            w = mech[k, 2] if d == 2 else mech[k, 3:]
+            vo = rigid_velocity(mech[k], -self.c[i], d)  # the velocity of the body point at the origin
             E, J = _screw(w, h, d)
             self.c[i] = E @ self.c[i] + J @ vo
             self.R[i] = E @ self.R[i]
@@ -412,7 +412,7 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
             hs *= 0.5
         done += hs
         ds.append(float(cfg.c[ctrl] @ dirn) - x0)
-        rot.append(_angle(cfg.R[ctrl], d))
+        rot.append(rotation_angle(cfg.R[ctrl], d))
         cc.append(cfg.c[ctrl].copy())
         du = np.array([cfg.c[i] - cfg.c0[i] for i in scene.free])
         dwork.append(float(np.sum(fL[:, :d] * du)) / fl_den)
@@ -443,9 +443,3 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
     out = spectral(scene, mechanism, np.array(ds), np.array(al), alpha0, fc, d0, ctrl)
     return {**out, "rotation": rot, "d_work": dwork, "control": scene.blocks[ctrl].id, "alpha0": float(alpha0),
             "control_centroid": np.array(cc).tolist(), "method": "incremental", "steps": solves, "stop": stop}
-
-
-def _angle(R, d) -> float:
-    if d == 2:
-        return float(np.arctan2(R[1, 0], R[0, 0]))
-    return float(np.arccos(np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)))

@@ -205,10 +205,14 @@ class Chain:
     def angle(self, i) -> float:
         """Block i's rotation from the start (rad): 2D signed, counter-clockwise; 3D its
         magnitude."""
-        R = self.R[i]
-        if self.d == 2:
-            return float(np.arctan2(R[1, 0], R[0, 0]))
-        return float(np.arccos(np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)))
+        return rotation_angle(self.R[i], self.d)
+
+
+def rotation_angle(R: np.ndarray, d: int) -> float:
+    """The angle (rad) of a rotation matrix R (d, d): 2D signed, counter-clockwise; 3D its magnitude."""
+    if d == 2:
+        return float(np.arctan2(R[1, 0], R[0, 0]))
+    return float(np.arccos(np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)))
 
 
 def follow(scene, mechanism: dict, alpha0: float | None = None, *, interfaces=None, steps: int = 400,
