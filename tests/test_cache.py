@@ -108,7 +108,8 @@ def fake_root(tmp_path, monkeypatch):
     (the lru_cache of code_fingerprint cleared before and after)."""
     root = tmp_path / "root"
     for rel, text in {"limit/__init__.py": "", "limit/solve/lp.py": "A = 1\n", "limit/schema.json": "{}",
-                      "limit/notes.md": "x", "dem_validation/run.py": "B = 1\n", "pyproject.toml": "[project]\n"}.items():
+                      "limit/notes.md": "x", "dem_validation/run.py": "B = 1\n", "dem_validation/engines/yade/main.py": "Y = 1\n",
+                      "dem_validation/engines/lmgc90/main.py": "L = 1\n", "pyproject.toml": "[project]\n"}.items():
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         (root / rel).write_text(text)
     monkeypatch.setattr(C, "ROOT", root)
@@ -120,6 +121,23 @@ def fake_root(tmp_path, monkeypatch):
 def fingerprints():
     C.code_fingerprint.cache_clear()  # a new process, as each validate run is
     return C.code_fingerprint("la"), C.code_fingerprint("dem")
+
+
+@pytest.mark.parametrize("edit, yade_changes, lmgc_changes", [
+    ("dem_validation/run.py", True, True),
+    ("dem_validation/engines/yade/main.py", True, False),
+    ("dem_validation/engines/lmgc90/main.py", False, True),
+])
+def test_engine_stamps(fake_root, edit, yade_changes, lmgc_changes):
+    """An engine's own folder decides only that engine's stage: YADE's ("dem") and LMGC90's ("lmgc")
+    fingerprints both follow the shared dem_validation/ code, each only its own adapter."""
+    C.code_fingerprint.cache_clear()
+    before = C.code_fingerprint("dem"), C.code_fingerprint("lmgc")
+    p = fake_root / edit
+    p.write_text(p.read_text() + "# changed\n")
+    C.code_fingerprint.cache_clear()
+    after = C.code_fingerprint("dem"), C.code_fingerprint("lmgc")
+    assert (after[0] != before[0], after[1] != before[1]) == (yade_changes, lmgc_changes)
 
 
 @pytest.mark.parametrize("edit, la_changes, dem_changes", [
