@@ -65,7 +65,9 @@ def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
                 "reason": (f"{a:.5g} is {100 * (1 - a / fric):.1f} % below step 2's frictional collapse at {fric:.5g}: "
                            "rigid blocks cannot collapse below the frictional minimum, so either step 2 missed a "
                            "lower state (limit solve --dem-start tries this run's state) or the engine adds "
-                           "something rigid blocks do not have (time step, contact compliance, creep)")}
+                           "something rigid blocks do not have (time step, contact compliance, creep)"
+                           + ("; this run's alpha still moved at its last halving of the time step"
+                              if dem.get("dt_converged") is False else ""))}
     if lp is not None and a > lp * (1.0 + slack):
         return {**out, "verdict": "suspect", "side": "high",
                 "reason": (f"{a:.5g} is {100 * (a / lp - 1):.1f} % above the associative LP's upper bound {lp:.5g}: "

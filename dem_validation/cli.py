@@ -74,7 +74,8 @@ class _Progress:
 
 def _progress(info):
     if "outcome" in info:  # LMGC90: one line per trial
-        print(f"lmgc90: {info['phase']} alpha={info['alpha']:.5g} {info['outcome']} step={info['step']}",
+        print(f"lmgc90: {'dt=%.3g s ' % info['dt'] if 'dt' in info else ''}{info['phase']} alpha={info['alpha']:.5g} "
+              f"{info['outcome']} step={info['step']}",
               file=sys.stderr, flush=True)
     elif "step" in info:
         print(f"dem: eps={info.get('eps', 0):.0e} alpha={info['alpha']:.5g} step={info['step']} "
@@ -89,6 +90,10 @@ def summary(result: dict) -> str:
              f"{result['n_interfaces']} interfaces"]
     if dem["status"] == "collapsed" and dem.get("alpha") is not None:
         lines.append(engines.of_result(dem).collapse_line(dem))
+        if len(dem.get("runs") or []) > 1 and all("dt" in r for r in dem["runs"]):
+            lines.append("time steps: " + ", ".join(f"{r['dt']:.3g} s: {r['alpha']:.5g}" for r in dem["runs"]
+                                                    if r.get("alpha") is not None)
+                         + {True: " (converged)", False: " (not converged)"}.get(dem.get("dt_converged"), ""))
     elif dem["status"] == "failed":
         lines.append(f"DEM failed: {dem.get('reason')}")
     else:

@@ -61,6 +61,8 @@ def record_text(rec: dict) -> str:
         parts.append(f"eps {rec['eps']:.0e}")
     elif rec.get("phase"):
         parts.append(str(rec["phase"]))
+    if isinstance(rec.get("dt"), (int, float)) and not rec.get("eps"):
+        parts.append(f"dt {rec['dt']:.2g}")
     if isinstance(rec.get("alpha"), (int, float)):
         parts.append(f"alpha {rec['alpha']:.4g}")
     if rec.get("outcome"):

@@ -134,6 +134,8 @@ def lmgc_lines(r) -> list[str]:
         if _finite(r.get("dem_alpha")):
             txt += f", {100 * (r['lmgc_alpha'] / r['dem_alpha'] - 1):+.1f} % from YADE"
         out = [txt + "."]
+        if isinstance(r.get("lmgc_dt"), str) and r["lmgc_dt"]:
+            out.append(f"Its alpha at halved time steps: {r['lmgc_dt']}.")
         if _finite(r.get("lmgc_vs_la")) and abs(r["lmgc_vs_la"]) > 0.02:
             out.append(lmgc_disagreement(r))
         if _finite(r.get("lmgc_similarity")):
@@ -408,6 +410,9 @@ def short_reason(r, col: str) -> str:
                 "state above the frictional minimum (joints that step 2 lets open and slide carry friction)")
     if col == "lmgc" and r.get("lmgc_creep"):
         return "below step 2, and its trials that held never came to rest: creep, a time-step artefact"
+    if col == "lmgc" and str(r.get("lmgc_dt") or "").endswith("(not converged)"):
+        return ("below step 2, and its alpha still moved at its last halving of the time step "
+                f"({r['lmgc_dt']}): a time-step artefact")
     if br == "suspect low":
         return "below step 2: a contradiction (a lower state step 2 missed, or an engine artefact)"
     return "below step 2, within the engine's own bracket slack"

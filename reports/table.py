@@ -21,7 +21,8 @@ Columns (alpha values dimensionless, times in seconds):
 * ``lmgc_*``: the LMGC90 run (rigid contacts), as ``dem_*``, with ``lmgc_err``,
   ``lmgc_vs_la`` and ``lmgc_similarity`` (all empty when LMGC90 did not run), and
   ``lmgc_creep`` (a trial that held never came to rest by speed: its blocks crept through the hold
-  or rattled in place);
+  or rattled in place) and ``lmgc_dt`` (each time step's alpha and whether they converged:
+  :func:`dt_text`);
 * ``cone_*``: the limit analysis of a 3D scene with 24 inscribed sliding faces (a
   near-circular friction cone, as in both dynamic engines): ``cone_status``,
   ``cone_lp_alpha``, ``cone_alpha`` (frictional: NLP, or step 2 from a DEM collapse state;
@@ -104,6 +105,16 @@ def dem_model_text(dem: dict) -> str:
     return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."
 
 
+def dt_text(lm: dict) -> str:
+    """LMGC90's alphas at its halved time steps: '1e-3 s: 0.1332, 5e-4 s: 0.1419 (converged)'; empty
+    for a run at one time step."""
+    runs = [r for r in lm.get("runs") or [] if r.get("dt") is not None and r.get("alpha") is not None]
+    if len(runs) < 2:
+        return ""
+    return (", ".join(f"{r['dt']:.2g} s: {r['alpha']:.4g}" for r in runs)
+            + {True: " (converged)", False: " (not converged)"}.get(lm.get("dt_converged"), ""))
+
+
 def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None, cone: dict | None = None,
         dem_start: list | None = None, scene=None) -> dict:
     """One scene's row of the results table; ``scene``: the file's loaded scene, when the caller
@@ -166,7 +177,7 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     lm = lmgc or {}
     r.update(lmgc_status=lm.get("status"), lmgc_alpha=lm.get("alpha"), lmgc_time_s=lm.get("time_s"),
              lmgc_reason=lm.get("reason", lm.get("note", "")), lmgc_uncertainty=lm.get("alpha_uncertainty"),
-             lmgc_dead=bool(lm.get("dead_load_collapse")),
+             lmgc_dead=bool(lm.get("dead_load_collapse")), lmgc_dt=dt_text(lm),
              lmgc_creep=any(h.get("outcome") == "stable" and h.get("settled", "speed" if h.get("rest") else None)
                             != "speed" for h in lm.get("history") or []))
     r["lmgc_err"] = _rel(r["lmgc_alpha"], exp.get("alpha"))

@@ -31,6 +31,8 @@ def test_judge_places_a_collapse_in_the_bracket(alpha, verdict, side):
         assert "below step 2's frictional collapse at 0.3" in b["reason"] and "--dem-start" in b["reason"]
     if side == "high":
         assert "above the associative LP's upper bound 0.4" in b["reason"]
+    moving = judge({"status": "collapsed", "alpha": alpha, "dt_converged": False}, LA)
+    assert ("still moved at its last halving" in moving["reason"]) == (side == "low")
 
 
 def test_in_3d_the_lp_bound_is_widened_to_the_circular_cone():

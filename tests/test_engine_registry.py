@@ -166,7 +166,8 @@ def test_the_engines_assemble_todays_keys_in_todays_order():
            "dead_load_collapse": False, "history": [{"phase": "load", "alpha": 0.29, "outcome": "stable"}],
            "displacement": {"b": [1, 2, 3]}}
     dem = assemble_rigid({"status": "done", "runs": [run]})
-    assert list(dem) == ["status", "alpha", "alpha_uncertainty", "runs", "history", "steps", "displacement"]
+    assert list(dem) == ["status", "alpha", "alpha_uncertainty", "runs", "history", "steps", "steps_total",
+                         "displacement", "dt_converged"]
     assert dem["alpha_uncertainty"] == pytest.approx(0.01) and dem["history"][0]["eps"] == 0.0
     runs = [{"eps": e, "status": "collapsed", "alpha": a, "alpha_lo": a - 1e-3, "alpha_hi": a + 1e-3, "steps": 5,
              "history": [], "displacement": {"b": [0, 0, 1]}} for e, a in ((1e-5, 0.299), (2.5e-6, 0.300))]

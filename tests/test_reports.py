@@ -565,3 +565,6 @@ def test_the_summary_counts_agreement_and_gives_each_other_result_one_linked_lin
                                                          lp_err=float("nan"), lp_time_s=0.1, nlp_time_s=0.1,
                                                          dem_time_s=1.0, mech_similarity=float("nan")))
     assert '<a href="#c">c</a>: LMGC90 -8.00 %' in html
+    rows[2].update(lmgc_creep=False, lmgc_dt="0.001 s: 0.25, 0.0005 s: 0.265, 0.00025 s: 0.276 (not converged)")
+    moving = render.summary_lines(pd.DataFrame(rows))[-1]["text"]
+    assert "still moved at its last halving of the time step" in moving and "0.00025 s: 0.276" in moving
