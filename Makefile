@@ -11,8 +11,10 @@ export OMP_NUM_THREADS ?= 1
 setup:
 	@bash scripts/bootstrap.sh
 
+# the whole suite, one pytest-xdist worker per core; each test file stays on one worker (--dist
+# loadfile), so a module's fixtures are computed once and at most one DEM run goes per core
 test: setup
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q -n auto --dist loadfile tests
 
 # the fast subset for every change: no DEM engine, no slow test (CONTRIBUTING.md), one pytest-xdist
 # worker per core (-n auto; PYTEST_XDIST_AUTO_NUM_WORKERS=N sets another number)
