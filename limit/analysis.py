@@ -16,6 +16,7 @@ from limit.solve.status import ANSWERED, Status
 from limit.solve import lp as lpmod
 from limit.model.assemble import Assembled, Options, assemble
 from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
+from limit.solve.nlp import needs_nlp
 from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
 
 
@@ -66,6 +67,9 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         if deg > 0 and sol.status == Status.OPTIMAL and _turnable(scene) and \
                 len(scene.free) < settings.of(P).large_min_free:
             part = _from_turned_directions(scene, P, sol, part, deg, options, nlp_options)
+        if settings.of(P).friction_starts and sol.status == Status.OPTIMAL and \
+                len(scene.free) < settings.of(P).large_min_free and not needs_nlp(P, sol)[0]:
+            part = _from_reduced_friction(P, sol, part, options, nlp_options)
         out["nlp"] = part
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic
@@ -96,7 +100,8 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
     from limit.model.scene import load_scene
     from limit.model.turned_load import turned
 
-    sub_options = dataclasses.replace(options or Options(), settings=settings.of(P).replace(direction_starts_deg=0))
+    sub_settings = settings.of(P).replace(direction_starts_deg=0, friction_starts=False)
+    sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
     sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k != "dem_state"}
     t0 = time.perf_counter()
     own_dem = part.get("dem_start")
@@ -120,6 +125,51 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
     if own_dem is not None:
         part["dem_start"] = own_dem
     return {**part, "direction_starts": entries, "time_s": (part.get("time_s") or 0.0) + time.perf_counter() - t0}
+
+
+def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
+    """Step 2's part, also from the collapse states of step 2 (method nlp) with every friction
+    coefficient and cohesion scaled by each factor of
+    :data:`limit.solve.nlp_starts.FRICTION_FACTORS` (the setting ``friction_starts``), for a
+    scene whose LP mechanism neither slides nor twists: there step 2 accepts the LP's point
+    without a search (method auto), and its search (method nlp) starts from that rocking
+    mechanism. At lower friction joints slide sooner, and a state in which some joints slide at
+    zero normal force and others rock carries over to the full friction with the same alpha (the
+    out-of-plane wall: t/H = 0.19048 from its own starts, 0.181726 from the state at 0.25 mu).
+    Where the LP mechanism slides, step 2 already searches from reduced-friction LP starts, and
+    on the catalog these states lowered nothing (docs/performance.md). Each state is tried as a dynamic run's is
+    (:func:`limit.step2.adopt_dem_state`) and adopted where it verifies lower; the part records
+    them under ``friction_starts``."""
+    import dataclasses
+
+    from limit.solve.nlp_starts import FRICTION_FACTORS
+
+    sub_settings = settings.of(P).replace(friction_starts=False, direction_starts_deg=0)
+    sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
+    sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k not in ("dem_state", "global_check", "iterative")}
+    t0 = time.perf_counter()
+    own_dem = part.get("dem_start")
+    entries = []
+    for f in FRICTION_FACTORS:
+        I2 = dataclasses.replace(P.I, mu=P.I.mu * f, cohesion=P.I.cohesion * f)
+        P2 = assemble(P.scene, sub_options, interfaces=I2)
+        sol2, _, _ = solve_lp(P2)
+        if sol2.status != Status.OPTIMAL:
+            entries.append({"factor": f, "status": "failed", "reason": f"the LP there: {sol2.status}"})
+            continue
+        nlp = step2.step2(P2, sol2, method="nlp", **sub_nlp)
+        if nlp.get("status") not in ANSWERED or not nlp.get("mechanism"):
+            entries.append({"factor": f, "status": "failed", "alpha_there": nlp.get("alpha"),
+                            "reason": f"step 2 there: {nlp.get('status')}"})
+            continue
+        part, entry = step2.adopt_dem_state(P, sol, part, {"displacement": nlp["mechanism"],
+                                                           "source": f"friction x {f:g}"})
+        entries.append({"factor": f, "alpha_there": nlp.get("alpha"),
+                        **{k: entry.get(k) for k in ("status", "alpha", "adopted", "reason")}})
+    part = {k: v for k, v in part.items() if k != "dem_start"}
+    if own_dem is not None:
+        part["dem_start"] = own_dem
+    return {**part, "friction_starts": entries, "time_s": (part.get("time_s") or 0.0) + time.perf_counter() - t0}
 
 
 def _with_dead_mechanism(P, lp: dict) -> dict:

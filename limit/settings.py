@@ -70,6 +70,14 @@ class Settings:
         "live load turned by +- this about the vertical and tries those collapse states as starts "
         "(limit.analysis); 0: off. On the 13 3D catalog scenes it lowers one, Fig. 6, from 0.3608 to a "
         "verified 0.2195 (9/41), at 2-3.5 times step 2's time (docs/performance.md)")
+    friction_starts: bool = _s(
+        True, "route", "on/off",
+        "below large_min_free free blocks, where the LP mechanism neither slides nor twists: step 2 also "
+        "runs (method nlp) with every friction coefficient "
+        "and cohesion scaled by the factors of limit.solve.nlp_starts.FRICTION_FACTORS (0.5, 0.25) and tries "
+        "those collapse states as starts (limit.analysis): sliding-first states that step 2 at full "
+        "friction does not reach. It lowers the out-of-plane wall from t/H = 0.19048 to a verified "
+        "0.181726, the MILP's best state (docs/performance.md)")
     global_max_blocks: int = _s(
         30, "route", "free blocks",
         "the mixed-integer global check (--global) runs for scenes up to this many; above it is skipped")

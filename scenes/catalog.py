@@ -106,16 +106,14 @@ def entries(references: dict | None = None) -> dict:
     oop["symmetry"] = "mirror"  # about the vertical plane x = 1.2 m (checked by limit.verdict.symmetry)
     # the worst direction, step 2 in each direction: half the circle solved, by the symmetry
     oop["meta"] = {"sweep": {"step": 5, "frictional": True},
-                   # the MILP runs here (27 free blocks): its best checked state and proven bound, an interval
-                   "la": {"global_max_free": 27, "global_time_limit": 400.0, "cost_s": 420.0},
                    "notes": "The LP's mechanism (overturning about the base edge, t/H) has no sliding, and step 2 "
-                            "stays at t/H. It is a frictional collapse state but not the lowest: the MILP of "
-                            "limit/solve/milp.py (meta.la: 400 s) finds states that pass the independent check below "
-                            "it (0.18173 at best, 4.6 % lower: 4 interfaces slide, 2 twist, 5 rock; docs/performance.md) "
-                            "and becomes the answer, without proving its optimum: the report gives the interval from "
-                            "its proven lower bound to that state. How low it gets within its time limit depends on "
-                            "the machine's speed. Both engines follow t/H: a monotonic pushover need not reach the "
-                            "lowest frictional collapse state."}
+                            "from its own starts stays at t/H. It is a frictional collapse state but not the lowest: "
+                            "step 2 at a quarter of the friction finds a state in which 4 joints slide (2 twisting) "
+                            "at zero normal force while 5 rock, and from it (the setting friction_starts) step 2 "
+                            "verifies 0.181726, 4.6 % lower, the best state the MILP of limit/solve/milp.py found "
+                            "(limit solve --global --global-time-limit 400; its proven bound stayed at 0). Both "
+                            "engines follow t/H: a monotonic pushover need not reach the lowest frictional "
+                            "collapse state."}
     add(oop)
     th = math.radians(30.0)
     obl = B.single_block(dim=3, b=0.4, h=1.0, t=0.25, mu=2.0, name="block-oblique-3d",

@@ -217,7 +217,8 @@ def needs_nlp(P, lp_sol) -> tuple[bool, str]:
     the LP's t/H = 0.190476, which the skip reports; step 2 run anyway stays at 0.190476 too, and YADE (0.1903) and LMGC90 (0.1914)
     follow t/H. Elsewhere the MILP's global minimum (and step 2 run anyway) agreed with the LP to
     1e-8: the catalog's other 10 such scenes and 56 generated ones (34 slender running-bond walls,
-    18 portals, 4 arches)."""
+    18 portals, 4 arches). Step 2 from a state at reduced friction (the setting ``friction_starts``,
+    :mod:`limit.analysis`) reaches the wall's 0.181726 without the MILP."""
     cls = mechanism.classify(P, lp_sol.u)
     n_slide, n_twist = int(cls["slide"].sum()), int(cls["twist"].sum())
     # The multipliers say the same: no sliding or twisting face flows.
