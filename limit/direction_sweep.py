@@ -70,10 +70,8 @@ def _lp_alpha(args) -> tuple:
         scene = load_scene(_turn(data, theta))
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
         return theta, Status.UNBOUNDED, None, time.perf_counter() - t0, None, None, None
-    # the neighbour pass turns states between directions instead (direction_starts_deg off); the
-    # reduced-friction starts would triple each direction's step 2 (friction_starts off)
-    res = analyse(scene, method="auto" if frictional else "lp",
-                  options=Options(settings={"direction_starts_deg": 0, "friction_starts": False}),
+    # the neighbour pass turns states between directions instead (direction_starts_deg off)
+    res = analyse(scene, method="auto" if frictional else "lp", options=Options(settings={"direction_starts_deg": 0}),
                   nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None).data
     lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
     if not frictional:
