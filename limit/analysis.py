@@ -137,9 +137,9 @@ def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
     zero normal force and others rock carries over to the full friction with the same alpha (the
     out-of-plane wall: t/H = 0.19048 from its own starts, 0.181726 from the state at 0.25 mu).
     Where the LP mechanism slides, step 2 already searches from reduced-friction LP starts, and
-    on the catalog these states lowered nothing (docs/performance.md). Each state is tried as a dynamic run's is
-    (:func:`limit.step2.adopt_dem_state`) and adopted where it verifies lower; the part records
-    them under ``friction_starts``."""
+    on the catalog these states lowered nothing (docs/performance.md). Each state is tried as a
+    dynamic run's is (:func:`limit.step2.adopt_dem_state`) and adopted where it verifies lower;
+    the part records them under ``friction_starts``."""
     import dataclasses
 
     from limit.solve.nlp_starts import FRICTION_FACTORS

@@ -37,7 +37,8 @@ def code_fingerprint(stage: str) -> str:
     skips = tuple(ROOT / s for s in STAGE_SKIPS.get(stage, ()))
     for pkg in STAGE_CODE[stage]:
         for p in sorted((ROOT / pkg).rglob("*")):
-            if p.suffix in (".py", ".json") and "__pycache__" not in p.parts and not any(p.is_relative_to(s) for s in skips):
+            skipped = any(p.is_relative_to(s) for s in skips)
+            if p.suffix in (".py", ".json") and "__pycache__" not in p.parts and not skipped:
                 h.update(str(p.relative_to(ROOT)).encode())
                 h.update(p.read_bytes())
     for name in ("pyproject.toml", "constraints.txt"):  # the version ranges, the pinned versions
