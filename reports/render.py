@@ -329,7 +329,7 @@ def _scene_figures(name: str, path: Path, df, results: dict, out: Path, views: b
         la_alpha = float(row["fric_alpha"].iloc[0]) if len(row) and row["fric_alpha"].iloc[0] is not None else None
         if la_alpha is None or not math.isfinite(la_alpha):
             la_alpha = float(row["lp_alpha"].iloc[0]) if len(row) and _finite(row["lp_alpha"].iloc[0]) else None
-        kin = verdict.kinematic_curve(scene, la)
+        kin = la["capacity_curve"] if "capacity_curve" in la else verdict.kinematic_curve(scene, la)
         if plots.capacity_figure(dem, la_alpha, figs / f"{name}-capacity.png", name, lmgc=lm, kinematic=kin):
             s["cap_png"] = f"figures/{name}-capacity.png"
         if views and len(scene.blocks) <= VIEW_MAX_BLOCKS:

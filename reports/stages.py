@@ -101,12 +101,15 @@ def run_cone(path: str, options: dict) -> dict:
     if not options["run"]:
         return {"lp": {"status": "skipped", "alpha": None, "reason": "2D: the two sliding faces are exact"},
                 "stage_time_s": 0.0}
-    return run_la(path, options)
+    return run_la(path, options, curve=False)
 
 
-def run_la(path: str, options: dict) -> dict:
+def run_la(path: str, options: dict, curve: bool = True) -> dict:
     """Limit analysis of the scene file at ``path``: the result file's content (docs/formats.md,
-    'Result file'); ``options`` may set the friction model (``n_slide``, ``slide_fit``)."""
+    'Result file'); ``options`` may set the friction model (``n_slide``, ``slide_fit``). With
+    ``curve``, also ``capacity_curve``: the mechanism followed at finite displacement
+    (:func:`reports.verdict.kinematic_curve`; None where there is none), which the report draws,
+    computed here in the stage's worker and cached with it rather than when the report is written."""
     from limit.analysis import analyse
     from limit.model.assemble import Options
     from limit.errors import SceneError
@@ -121,6 +124,8 @@ def run_la(path: str, options: dict) -> dict:
                     "global_time_limit": options["global_time_limit"], "arbitrary": n_free <= options["global_max_free"]}
         model = Options(n_slide=options.get("n_slide"), slide_fit=options.get("slide_fit", "auto"))
         res = analyse(scene, method=options["method"], options=model, nlp_options=nlp_opts).data
+        if curve:
+            res = {**res, "capacity_curve": _curve(scene, res)}
     except SceneError as exc:
         res = {"lp": {"status": "failed", "alpha": None, "reason": f"rejected scene: {exc}"}}
     except Exception as exc:  # noqa: BLE001 - reported, never raised
@@ -128,6 +133,17 @@ def run_la(path: str, options: dict) -> dict:
                       "reason": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc(limit=5)}}
     res["stage_time_s"] = time.perf_counter() - t0
     return res
+
+
+def _curve(scene, res: dict):
+    """The report's capacity curve of ``res``'s mechanism, or None (also when it cannot be followed:
+    the report then says there is no curve, as for a mechanism without one)."""
+    from .verdict import kinematic_curve
+
+    try:
+        return kinematic_curve(scene, res)
+    except Exception:  # noqa: BLE001 - a curve that cannot be followed is not a failed analysis
+        return None
 
 
 def run_dem(path: str, options: dict) -> dict:

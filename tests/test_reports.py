@@ -568,3 +568,19 @@ def test_the_summary_counts_agreement_and_gives_each_other_result_one_linked_lin
     rows[2].update(lmgc_creep=False, lmgc_dt="0.001 s: 0.25, 0.0005 s: 0.265, 0.00025 s: 0.276 (not converged)")
     moving = render.summary_lines(pd.DataFrame(rows))[-1]["text"]
     assert "still moved at its last halving of the time step" in moving and "0.00025 s: 0.276" in moving
+
+
+def test_the_la_stage_carries_the_capacity_curve_the_report_draws():
+    """The ``la`` stage follows its mechanism at finite displacement in its own worker and caches
+    it (``capacity_curve``), so the report does not compute it: the catalog portal's sway starts at
+    alpha = b / h = 0.3 / 1.5 = 0.2 and falls as the columns turn. The cone stage (3D friction
+    model only) does not follow it."""
+    from reports.stages import la_options, run_la
+    from tests.conftest import ROOT
+
+    path = ROOT / "scenes" / "catalog" / "portal-2d.json"
+    data = json.loads(path.read_text())
+    la = run_la(str(path), la_options(data))
+    kin = la["capacity_curve"]
+    assert kin["alpha"][0] == pytest.approx(0.2, rel=1e-6) and kin["alpha"][-1] < 0.5 * kin["alpha"][0]
+    assert "capacity_curve" not in run_la(str(path), la_options(data), curve=False)
