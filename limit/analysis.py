@@ -110,11 +110,11 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
         try:
             turned_scene = load_scene(turned(scene.data, turn))
         except Exception as exc:  # noqa: BLE001 - a direction that cannot be built is recorded, not fatal
-            entries.append({"turn_deg": turn, "status": "failed", "reason": f"{type(exc).__name__}: {exc}"})
+            entries.append({"turn_deg": turn, "status": Status.FAILED, "reason": f"{type(exc).__name__}: {exc}"})
             continue
         nlp = _analyse(turned_scene, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False).data.get("nlp") or {}
         if nlp.get("status") not in ANSWERED or not nlp.get("mechanism"):
-            entries.append({"turn_deg": turn, "status": "failed", "alpha_there": nlp.get("alpha"),
+            entries.append({"turn_deg": turn, "status": Status.FAILED, "alpha_there": nlp.get("alpha"),
                             "reason": f"step 2 there: {nlp.get('status')}"})
             continue
         part, entry = step2.adopt_dem_state(P, sol, part, {"displacement": nlp["mechanism"],
@@ -155,11 +155,11 @@ def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
         P2 = assemble(P.scene, sub_options, interfaces=I2)
         sol2, _, _ = solve_lp(P2)
         if sol2.status != Status.OPTIMAL:
-            entries.append({"factor": f, "status": "failed", "reason": f"the LP there: {sol2.status}"})
+            entries.append({"factor": f, "status": Status.FAILED, "reason": f"the LP there: {sol2.status}"})
             continue
         nlp = step2.step2(P2, sol2, method="nlp", **sub_nlp)
         if nlp.get("status") not in ANSWERED or not nlp.get("mechanism"):
-            entries.append({"factor": f, "status": "failed", "alpha_there": nlp.get("alpha"),
+            entries.append({"factor": f, "status": Status.FAILED, "alpha_there": nlp.get("alpha"),
                             "reason": f"step 2 there: {nlp.get('status')}"})
             continue
         part, entry = step2.adopt_dem_state(P, sol, part, {"displacement": nlp["mechanism"],

@@ -12,6 +12,7 @@ import sys
 
 from limit.errors import SceneError, run_command
 from limit.solve.solvers import SOLVERS
+from limit.solve.status import CheckStatus
 
 #: the registry's names (limit.solve.solvers imports no cvxpy, which is slow to import for `info`)
 LP_SOLVERS = list(SOLVERS)
@@ -212,7 +213,7 @@ def cmd_check(args) -> int:
         own_demand = demand is None and args.fc is None  # the scene's demand: its check is made by analyse
         res = analyse(scene, method=args.method, options=opts, verdict=own_demand).data
         own = res.get("verdict") or {}
-        if own_demand and own.get("status") == "done":
+        if own_demand and own.get("status") == CheckStatus.DONE:
             a = {k: v for k, v in own.items() if k != "status"}
         else:
             import functools
@@ -274,7 +275,7 @@ def cmd_design(args) -> int:
     if lp is not None:
         print("least total capacity by the LP: " + ", ".join(
             f"{c.get('id', f'tie-{k}')} {v:.6g} N" for k, (c, v) in enumerate(zip(cands, lp))))
-    if out["status"] != "done":
+    if out["status"] != CheckStatus.DONE:
         print(f"design {out['status']}: {out['reason']}")
         return 1
     res = out["result"]

@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from limit.solve.status import ANSWERED, Status
+from limit.solve.status import ANSWERED, CheckStatus, Status
 
 #: relative width of the bisection on the capacities' common factor (step 2's check)
 RTOL = 1e-3
@@ -113,12 +113,12 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
         a = _frictional(res, method)
         out["trials"].append((0.0, a))
         if a is not None and a >= target * (1 - 1e-9):
-            out.update(status="done", factor=1.0, result=res, lp_capacities=lp["capacities"],
+            out.update(status=CheckStatus.DONE, factor=1.0, result=res, lp_capacities=lp["capacities"],
                        time_s=time.perf_counter() - t0)
             return out
         lp_alpha = res["lp"].get("alpha")
         if a is None or a <= 0 or lp_alpha is None:
-            out.update(status="failed", reason=f"the untied scene has no frictional alpha to raise ({a})",
+            out.update(status=CheckStatus.FAILED, reason=f"the untied scene has no frictional alpha to raise ({a})",
                        time_s=time.perf_counter() - t0)
             return out
         # the LP's target raised by the gain the frictional alpha needs (the module docstring, 3.)
@@ -163,7 +163,7 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
         else:
             lo = f
     if hi is None:
-        out.update(status="out_of_reach", reason=f"step 2 stays below {target:g} with every capacity "
+        out.update(status=CheckStatus.OUT_OF_REACH, reason=f"step 2 stays below {target:g} with every capacity "
                    f"{lo:g} times the LP's", time_s=time.perf_counter() - t0)
         return out
     lo = lo if lo is not None else 0.0
@@ -175,7 +175,7 @@ def design(data: dict, candidates: list, target: float, method: str = "auto", pr
         else:
             lo = mid
     f_ok = hi
-    out.update(status="done", factor=f_ok, ties=best[0], result=best[1], time_s=time.perf_counter() - t0)
+    out.update(status=CheckStatus.DONE, factor=f_ok, ties=best[0], result=best[1], time_s=time.perf_counter() - t0)
     return out
 
 
@@ -216,7 +216,7 @@ def design_for_demand(data: dict, candidates: list, method: str = "auto", progre
     if progress:
         progress(f"without new ties: alpha {alpha:.6g}, linear check ratio {ratio:.4g}")
     if ratio >= 1.0:
-        return {"status": "done", "target": alpha, "lp_capacities": None, "factor": 1.0, "ties": [], "result": res,
+        return {"status": CheckStatus.DONE, "target": alpha, "lp_capacities": None, "factor": 1.0, "ties": [], "result": res,
                 "trials": [], "reason": "the check passes without ties", "rounds": rounds,
                 "check": res["verdict"]["check"], "time_s": time.perf_counter() - t0}
     target = 0.0
@@ -225,7 +225,7 @@ def design_for_demand(data: dict, candidates: list, method: str = "auto", progre
         if progress:
             progress(f"target alpha {target:.6g} (alpha {alpha:.6g} / ratio {ratio:.4g})")
         out = design(data, candidates, target, method=method, progress=progress, keep=keep)
-        if out["status"] != "done":
+        if out["status"] != CheckStatus.DONE:
             out.update(rounds=rounds, check=None, time_s=time.perf_counter() - t0)
             return out
         alpha, ratio = _linear_ratio(out["result"])
@@ -234,5 +234,5 @@ def design_for_demand(data: dict, candidates: list, method: str = "auto", progre
             break
     out.update(rounds=rounds, check=(out["result"].get("verdict") or {}).get("check"), time_s=time.perf_counter() - t0)
     if ratio is None or ratio < 1.0:
-        out.update(status="out_of_reach", reason=f"the check's ratio is {ratio} after {len(rounds) - 1} rounds of design")
+        out.update(status=CheckStatus.OUT_OF_REACH, reason=f"the check's ratio is {ratio} after {len(rounds) - 1} rounds of design")
     return out

@@ -39,6 +39,8 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from limit.solve.status import IpmStatus
+
 #: regularisation of the interface blocks and of N, relative to their largest diagonal entry
 REG_H = 1e-13
 REG_N = 1e-16
@@ -438,7 +440,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
     nc = 1.0 + np.abs(cy).max(initial=0.0)
     t_setup = time.perf_counter() - t0
     t_fact = 0.0
-    status, reason = "failed", f"not converged in {max_iter} iterations"
+    status, reason = IpmStatus.FAILED, f"not converged in {max_iter} iterations"
     it = 0
     mu0 = None
     diverged = False
@@ -459,7 +461,7 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         if verbose:
             print(f"{it:3d} alpha {a:.10f} primal {res_p:.1e} dual {res_d:.1e} gap {gap:.1e} mu {mu:.1e}")
         if res_p <= tol and res_d <= tol and gap <= tol:
-            status, reason = "optimal", ""
+            status, reason = IpmStatus.OPTIMAL, ""
             break
         if almost is not None:
             err = max(res_p, res_d, gap)
@@ -513,8 +515,8 @@ def _solve(Eh, Yh, f0h, fLh, x_group, tol, max_iter, verbose, c=None, warm=None,
         s += ap * ds
         y += ad * dy
         z += ad * dz
-    if status != "optimal" and almost is not None and best["err"] <= almost:
-        status, reason = "almost", f"{reason}; the best iterate ({best['it']}), residual {best['err']:.1e}, returned"
+    if status != IpmStatus.OPTIMAL and almost is not None and best["err"] <= almost:
+        status, reason = IpmStatus.ALMOST, f"{reason}; the best iterate ({best['it']}), residual {best['err']:.1e}, returned"
         x, a, s, z, y = best["x"], best["a"], best["s"], best["z"], best["y"]
     return {"status": status, "reason": reason, "diverged": diverged, "alpha": a, "xh": x, "vh": y, "lamh": z,
             "s": s, "iterations": min(it, max_iter),

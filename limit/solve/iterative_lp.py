@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from limit.solve import lpsub
+from limit.solve.status import IpmStatus, IterativeStatus
 from limit.model.yield_domain import SLIDE, TWIST
 
 
@@ -96,7 +97,7 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
         b[fr] = np.maximum(P.kh[fr] - ncoef * nstar, 0.0)
         res = lpsub.solve(c, Aeq, -P.f0h, Aub, b, lo, hi, backend)
         if not res.ok:
-            return {"status": "failed", "alpha": None, "iterations": it, "history": history,
+            return {"status": IterativeStatus.FAILED, "alpha": None, "iterations": it, "history": history,
                     "time_s": time.perf_counter() - t0, "reason": f"LP {it}: {res.status}"}
         alpha = float(res.z[0])
         nnew = res.z[1:][ncol]
@@ -104,9 +105,9 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
         change = float(np.max(np.abs(nnew - nstar), initial=0.0)) / max(float(np.max(np.abs(nnew), initial=0.0)), 1e-300)
         nstar = nstar + omega * (nnew - nstar)
         if change < tol:
-            return {"status": "converged", "alpha": alpha, "iterations": it, "history": history,
+            return {"status": IterativeStatus.CONVERGED, "alpha": alpha, "iterations": it, "history": history,
                     "time_s": time.perf_counter() - t0}
-    return {"status": "not_converged", "alpha": alpha, "iterations": max_iter, "history": history,
+    return {"status": IterativeStatus.NOT_CONVERGED, "alpha": alpha, "iterations": max_iter, "history": history,
             "time_s": time.perf_counter() - t0, "reason": f"normal forces still changing after {max_iter} LPs"}
 
 
@@ -129,7 +130,7 @@ ITERATIVE_CORRECTORS = 0
 #: raised floor N* as well
 ITERATIVE_ALMOST = 1e-6
 #: the statuses of ipm.solve taken as an answer
-_OK = ("optimal", "almost")
+_OK = (IpmStatus.OPTIMAL, IpmStatus.ALMOST)
 
 
 def _proximal(P, ncol, nstar, prox) -> dict:
@@ -148,7 +149,7 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
     from limit.solve import ipm
     fr, Yc, ncol, ncoef = friction_rows(P)
     nstar = (lp_sol.x / P.Dx)[ncol] if nstar0 is None else np.asarray(nstar0, float).copy()
-    history, r, it, status, warm = [], None, 0, "not_converged", None
+    history, r, it, status, warm = [], None, 0, IterativeStatus.NOT_CONVERGED, None
     structure = ipm.Structure(P.Eh, Yc, P.model.x_iface)  # the same matrices in every LP
     for it in range(1, max_iter + 1):
         c = P.kh.copy()
@@ -173,23 +174,23 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
                 break
             rel *= 100.0
         if r["status"] not in _OK:
-            return {"status": "failed", "alpha": None, "iterations": it, "history": history,
+            return {"status": IterativeStatus.FAILED, "alpha": None, "iterations": it, "history": history,
                     "time_s": time.perf_counter() - t0, "reason": f"LP {it}: {r['reason']}"}
         history.append(float(r["alpha"]))
         warm = r
         nnew = r["xh"][ncol]
         change = float(np.max(np.abs(nnew - nstar), initial=0.0)) / max(float(np.max(np.abs(nnew), initial=0.0)), 1e-300)
         if on_iterate is not None and on_iterate(it, r, nstar):
-            status = "stopped"
+            status = IterativeStatus.STOPPED
             break
         nstar = nstar + (omega() if callable(omega) else omega) * (nnew - nstar)
         if change < tol:
-            status = "converged"
+            status = IterativeStatus.CONVERGED
             break
     out = {"status": status, "alpha": history[-1] if history else None, "iterations": it, "history": history,
            "time_s": time.perf_counter() - t0, "nstar": nstar}
     if r is not None:
         out.update(xh=r["xh"], vh=r["vh"], lamh=r["lamh"])
-    if status == "not_converged":
+    if status == IterativeStatus.NOT_CONVERGED:
         out["reason"] = f"normal forces still changing after {max_iter} LPs"
     return out

@@ -38,7 +38,7 @@ import numpy as np
 
 from limit import settings
 from limit.model.assemble import Assembled
-from limit.solve.status import Status
+from limit.solve.status import IpmStatus, Status
 from limit.solve.solvers import DEFAULT_SOLVER, FALLBACK, SOLVERS  # noqa: F401  (public here too)
 
 #: solver name -> (cvxpy solver, options)
@@ -156,7 +156,7 @@ def _static_ipm(P: Assembled, overrides: dict | None = None) -> LPSolution:
     r = ipm.solve(P.Eh, P.Yh, P.f0h, P.fLh, P.model.x_iface, c=P.kh, **{"almost": IPM_ALMOST, **(overrides or {})})
     t = {"compile_s": r["setup_s"], "solve_s": r["solve_s"] - r["setup_s"], "solver_total_s": r["solve_s"],
          "ipm_iterations": r["iterations"]}
-    st = Status.INACCURATE if r["status"] == "almost" else Status(r["status"])  # ipm: optimal | failed | almost
+    st = Status.INACCURATE if r["status"] == IpmStatus.ALMOST else Status(r["status"])  # ipm: optimal | failed | almost
     sol = LPSolution(st, solver="ipm", cvxpy_status=f"ipm {r['status']}", reason=r["reason"],
                      timings=t, form="static")
     if st in (Status.OPTIMAL, Status.INACCURATE):

@@ -31,6 +31,7 @@ from scipy.optimize import Bounds, LinearConstraint, milp
 
 from limit.solve import lpsub
 from limit.solve.nlp_problem import build
+from limit.solve.status import GlobalStatus
 
 
 def _bounds(N, P, alpha_ub, deadline):
@@ -77,7 +78,7 @@ def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: i
     try:
         S, L = _bounds(N, P, alpha_ub * (1 + 1e-9) + 1e-12, deadline)
     except TimeoutError:
-        return {"status": "time_limit", "alpha": None, "bound": None, "time_s": time.perf_counter() - t0,
+        return {"status": GlobalStatus.TIME_LIMIT, "alpha": None, "bound": None, "time_s": time.perf_counter() - t0,
                 "reason": f"bound tightening not finished within {time_limit:g} s"}
     finite = L[np.isfinite(L)]
     cap = 10.0 * max(float(finite.max()) if finite.size else 1.0, 1.0)
@@ -111,17 +112,18 @@ def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: i
                    options={"time_limit": left, "mip_rel_gap": 1e-7})
         bound = getattr(res, "mip_dual_bound", None)
         if res.x is None:
-            status = {1: "time_limit", 2: "infeasible", 3: "unbounded"}.get(res.status, "failed")
+            status = {1: GlobalStatus.TIME_LIMIT, 2: GlobalStatus.INFEASIBLE,
+                      3: GlobalStatus.UNBOUNDED}.get(res.status, GlobalStatus.FAILED)
             return {"status": status, "alpha": None, "bound": bound, "time_s": time.perf_counter() - t0,
                     "reason": res.message}
         z = res.x[:n]
-        out = {"status": "optimal" if res.status == 0 else "time_limit", "alpha": float(z[N.ia]), "z": z,
+        out = {"status": GlobalStatus.OPTIMAL if res.status == 0 else GlobalStatus.TIME_LIMIT, "alpha": float(z[N.ia]), "z": z,
                "bound": bound, "time_s": time.perf_counter() - t0, "reason": "" if res.status == 0 else res.message}
         capped = (~np.isfinite(L)) & (z[N.sl] > 0.5 * cap)
         if not capped.any():
             return out
         cap *= 10.0  # a capped multiplier came close to its cap: it might cut off the optimum
-    out["status"] = out.get("status", "time_limit") if out else "time_limit"
+    out["status"] = out.get("status", GlobalStatus.TIME_LIMIT) if out else GlobalStatus.TIME_LIMIT
     out.setdefault("reason", "multiplier cap still active")
     out["time_s"] = time.perf_counter() - t0
     return out

@@ -26,6 +26,8 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
+from limit.solve.status import IpmStatus
+
 #: a flowing face's row counts towards the null space above this x the interface's largest singular value
 RANK_RTOL = 1e-10
 #: a face that does not flow is dropped when its reduced row's norm is at most this x its own
@@ -125,7 +127,7 @@ def solve(P, flows: np.ndarray, tol: float = 1e-9, max_iter: int = MAX_ITER) -> 
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # a diverging piece is reported below
         r = ipm.solve(Er, Yr, P.f0h, -np.asarray(P.fLh, float), u_iface, tol=tol, max_iter=max_iter,
                       mu_diverged=MU_DIVERGED)
-    if r["status"] != "optimal":
+    if r["status"] != IpmStatus.OPTIMAL:
         return Statics(None, None, f"interior point: {r['reason']}", bool(r["diverged"]))
     alpha = -float(r["alpha"])
     if alpha < -tol:

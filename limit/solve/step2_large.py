@@ -52,7 +52,7 @@ from typing import NamedTuple
 import numpy as np
 
 from limit import settings
-from limit.solve.status import Status
+from limit.solve.status import IterativeStatus, Status
 from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, piece_statics, rigid_clusters
 from limit.solve.nlp_problem import build
 
@@ -349,7 +349,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
         why = f"stopped: another start had verified ({GRACE:.0%} of its time given to the others)" if GRACE \
             else "stopped: another start had verified first"
     else:
-        why = out.get("reason") or ("time budget spent" if out["status"] == "stopped" else out["status"])
+        why = out.get("reason") or ("time budget spent" if out["status"] == IterativeStatus.STOPPED else out["status"])
     return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from limit.verdict.kinematic_check import FC_DEFAULT
 from limit.model.seismic_demand import G, Demand, as_dict, check
+from limit.solve.status import CheckStatus, Status
 
 
 def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
@@ -14,7 +15,7 @@ def step_mechanism(res: dict) -> tuple[str, float, dict] | None:
     one, else the LP's; None without either."""
     for step in ("nlp", "lp"):
         part = res.get(step) or {}
-        if part.get("status") == "optimal" and part.get("mechanism") and part.get("alpha") is not None:
+        if part.get("status") == Status.OPTIMAL and part.get("mechanism") and part.get("alpha") is not None:
             return step, float(part["alpha"]), part["mechanism"]
     return None
 
@@ -70,9 +71,9 @@ def scene_verdict(scene, res: dict, sliding=None) -> dict:
     """The result file's "verdict" of a scene with a demand: :func:`verdict`, or {"status":
     "failed", "reason"} when the analysis gave no mechanism to check."""
     try:
-        return {"status": "done", **verdict(scene, res, sliding=sliding)}
+        return {"status": CheckStatus.DONE, **verdict(scene, res, sliding=sliding)}
     except ValueError as exc:
-        return {"status": "failed", "reason": str(exc)}
+        return {"status": CheckStatus.FAILED, "reason": str(exc)}
 
 
 def verdict_lines(a: dict) -> list[str]:
