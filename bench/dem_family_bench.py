@@ -3,7 +3,7 @@ structures the engines' knobs were not tuned on, each result judged against the 
 bracket [step 2, LP] (dem_validation/bracket.py, the engines' friction cone).
 
 Per member and engine: the alpha, its verdict (inside, suspect low, suspect high, unchecked,
-or the run's status), the time. ``$DEM_FAMILY_COUNT`` members (default 8, every kind once) of
+or the run's status), the time, and LMGC90's alpha at each of its halved time steps. ``$DEM_FAMILY_COUNT`` members (default 8, every kind once) of
 ``$DEM_FAMILY_SEED`` (default 0); ``$DEM_FAMILY_TIMEOUT`` s per engine run (default 1800);
 ``$DEM_FAMILY_ENGINES`` a comma-separated subset of the engines (default all).
 ``python -m bench.dem_family_bench [INDEX...]`` runs only those members.
@@ -21,6 +21,7 @@ from dem_validation import engines
 from dem_validation.api import run_scene
 from dem_validation.bracket import judge, limit_analysis
 from limit.model.scene import load_scene
+from reports.table import dt_text
 from scenes.generators.families import dem_family
 
 from .common import machine, out_dir
@@ -51,6 +52,7 @@ def rows(scene_dict: dict) -> list[dict]:
         out.append({"index": f["index"], "kind": f["kind"], "dim": f["dim"], "free": len(scene.free), "mu": f["mu"],
                     "fric_alpha": la["fric_alpha"], "lp_alpha": la["lp_alpha"], "la_s": la_s, "engine": engine,
                     "alpha": dem.get("alpha"), "verdict": verdict, "time_s": dem.get("time_s"),
+                    "dt": dt_text(dem),
                     "reason": (br.get("reason") if br["verdict"] == "suspect" else dem.get("reason")) or ""})
         r = out[-1]
         print(f"dem-family {r['index']:2d} {r['kind']:28s} {engine:6s} alpha {r['alpha']} [{verdict}] "
@@ -66,12 +68,13 @@ def table(df: pd.DataFrame) -> str:
         d = df[df["engine"] == engine]
         lines.append(f"- {engine}: {int((d['verdict'] == 'inside').sum())} of {len(d)} inside the bracket "
                      f"[step 2, LP] (1 % slack); suspect: {int(d['verdict'].astype(str).str.startswith('suspect').sum())}")
-    lines += ["", "| # | kind | dim | free | mu | step 2 | LP | engine | alpha | verdict | time s | reason |",
-              "|" + " --- |" * 12]
+    lines += ["", "| # | kind | dim | free | mu | step 2 | LP | engine | alpha | verdict | time s | time steps | reason |",
+              "|" + " --- |" * 13]
     for _, r in df.iterrows():
         lines.append(f"| {r['index']} | {r['kind']} | {r['dim']} | {r['free']} | {r['mu']:g} | "
                      f"{fmt(r['fric_alpha'], '.5f')} | {fmt(r['lp_alpha'], '.5f')} | {r['engine']} | "
-                     f"{fmt(r['alpha'], '.5f')} | {r['verdict']} | {fmt(r['time_s'], '.0f')} | {r['reason'][:160]} |")
+                     f"{fmt(r['alpha'], '.5f')} | {r['verdict']} | {fmt(r['time_s'], '.0f')} | {r.get('dt') or ''} | "
+                     f"{r['reason'][:160]} |")
     return "\n".join(lines) + "\n"
 
 
