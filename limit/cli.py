@@ -131,6 +131,8 @@ def _parser() -> argparse.ArgumentParser:
     pw.add_argument("--frictional", action="store_true",
                     help="step 2 at every direction too (default: at the LP's minimum only): the frictional worst direction")
     pw.add_argument("--plot", metavar="OUT.png", help="draw alpha(theta) as a polar plot")
+    pw.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="change a setting (repeatable) in every direction's analysis, as for solve")
     pim = sub.add_parser("import", help="write a scene from CAD or mesh files (OBJ, STL, PLY, DXF)")
     from scenes.importers.command import add_arguments as import_arguments
     import_arguments(pim)
@@ -325,10 +327,11 @@ def cmd_sweep(args) -> int:
     data = load_scene(args.scene).data  # validated (exit 2 on bad input)
     if data.get("dim") != 3:
         raise SceneError("dim: the direction sweep is for 3D scenes")
+    changes = settings_of_args(args)  # a bad --set is rejected input (exit 2)
     try:
         out = sweep(data, args.step, mirror=True if args.mirror else None, jobs=args.jobs, scheduler=args.scheduler,
                     progress=lambda k, n: print(f"\r{k}/{n} directions", end="", file=sys.stderr, flush=True),
-                    every=args.frictional)
+                    every=args.frictional, settings=changes)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
     print(file=sys.stderr)

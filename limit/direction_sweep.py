@@ -65,13 +65,15 @@ def _lp_alpha(args) -> tuple:
 
     data, theta = args[:2]
     frictional = len(args) > 2 and args[2]
+    changes = dict(args[3]) if len(args) > 3 and args[3] else {}
     t0 = time.perf_counter()
     try:
         scene = load_scene(_turn(data, theta))
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
         return theta, Status.UNBOUNDED, None, time.perf_counter() - t0, None, None, None
     # the neighbour pass turns states between directions instead (direction_starts_deg off)
-    res = analyse(scene, method="auto" if frictional else "lp", options=Options(settings={"direction_starts_deg": 0}),
+    res = analyse(scene, method="auto" if frictional else "lp",
+                  options=Options(settings={**changes, "direction_starts_deg": 0}),
                   nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None).data
     lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
     if not frictional:
@@ -87,14 +89,16 @@ def _from_starts(args) -> tuple:
     the collapse states of other directions (``starts``: [(theta_j, mechanism_j)]), each tried as
     the piece LP's flowing set (:func:`limit.solve.dem_start.solve`, as a dynamic run's state)."""
     from limit.analysis import analyse
+    from limit.model.assemble import Options
     from limit.model.scene import load_scene
     from limit.solve import dem_start, mechanism
 
-    data, theta, starts = args
+    data, theta, starts = args[:3]
+    changes = dict(args[3]) if len(args) > 3 and args[3] else {}
     t0 = time.perf_counter()
     best = (None, None, None)
     try:
-        run = analyse(load_scene(_turn(data, theta)), method="lp")
+        run = analyse(load_scene(_turn(data, theta)), method="lp", options=Options(settings=changes))
     except Exception:  # noqa: BLE001 - a direction that cannot be analysed keeps its first answer
         return theta, None, None, None, time.perf_counter() - t0
     if run.sol.status != Status.OPTIMAL:
@@ -108,7 +112,8 @@ def _from_starts(args) -> tuple:
 
 
 def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs: int | None = None,
-          scheduler: str | None = None, frictional: bool = True, progress=None, every: bool = False) -> dict:
+          scheduler: str | None = None, frictional: bool = True, progress=None, every: bool = False,
+          settings: dict | None = None) -> dict:
     """alpha(theta) of the scene dict ``data`` (3D) every ``step_deg`` over 360 degrees;
     returns {"theta" (deg), "alpha" (LP, NaN where not optimal), "status", "min_theta",
     "min_alpha" (LP), "min_nlp" (the analysis at the minimum: "lp", "nlp" (step 2 where it
@@ -127,12 +132,16 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
     "status_frictional", "min_theta_frictional", "min_alpha_frictional" and "min_frictional" (the
     analysis at the frictional minimum, with the code check there, like "min_nlp"), and
     "neighbour_passes" (:func:`_neighbour_passes`: the directions that went lower from another
-    direction's collapse state as a start, with their alpha before and after)."""
+    direction's collapse state as a start, with their alpha before and after).
+
+    ``settings``: the settings to change ({name: value}, :mod:`limit.settings`) in every direction's
+    analysis (each direction's own direction starts stay off: the neighbour pass does their work)."""
     if data.get("dim") != 3:
         raise ValueError("dim: the direction sweep is for 3D scenes (a 2D scene's load direction is +/- x)")
     if not (0 < step_deg <= 180):
         raise ValueError(f"step_deg must be in (0, 180], got {step_deg!r}")
     t0 = time.perf_counter()
+    changes = dict(settings or {})
     if mirror is None:
         mirror = data.get("symmetry") == "mirror"
     if mirror:
@@ -157,12 +166,12 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         return dt
 
     for t in todo[:2]:  # in this process: the second times one direction (the first pays the imports)
-        dt = record(_lp_alpha((data, float(t), every)))
+        dt = record(_lp_alpha((data, float(t), every, changes)))
     rest = todo[2:]
     parallel = bool(scheduler) or (bool(rest) and jobs > 1 and dt * len(rest) * (1.0 - 1.0 / jobs) > DASK_START_S)
     jobs = jobs if parallel else 1
-    _map(_lp_alpha, [(data, float(t), every) for t in rest], record, jobs, scheduler, parallel)
-    passes = _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror) if every else None
+    _map(_lp_alpha, [(data, float(t), every, changes) for t in rest], record, jobs, scheduler, parallel)
+    passes = _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror, changes) if every else None
     status, alpha, fstatus, falpha = [], [], [], []
     for t in thetas:
         src = t if t in got else (360.0 - t) % 360.0  # mirrored
@@ -182,12 +191,12 @@ def sweep(data: dict, step_deg: float = 5.0, *, mirror: bool | None = None, jobs
         if np.isfinite(falpha).any():
             kf = int(np.nanargmin(falpha))
             out.update(min_theta_frictional=float(thetas[kf]), min_alpha_frictional=float(falpha[kf]),
-                       min_frictional=_at(data, float(thetas[kf]), _start(float(thetas[kf]), mechs, passes)),
+                       min_frictional=_at(data, float(thetas[kf]), _start(float(thetas[kf]), mechs, passes), changes),
                        min_direction_frictional=_turn(data, float(thetas[kf]))["loads"]["live"][0]["direction"])
     if not np.isfinite(alpha).any():
         return {**out, "time_s": time.perf_counter() - t0}
     k = int(np.nanargmin(alpha))
-    at_min = _at(data, float(thetas[k])) if frictional else None
+    at_min = _at(data, float(thetas[k]), None, changes) if frictional else None
     return {**out, "min_theta": float(thetas[k]), "min_alpha": float(alpha[k]), "min_nlp": at_min,
             "min_direction": _turn(data, float(thetas[k]))["loads"]["live"][0]["direction"],
             "time_s": time.perf_counter() - t0}
@@ -208,7 +217,7 @@ def _map(fn, tasks, record, jobs, scheduler, parallel) -> None:
             record(fn(t))
 
 
-def _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror) -> dict:
+def _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror, changes=None) -> dict:
     """The frictional sweep's second pass, in place on ``got`` and ``mechs`` (module constants
     NEIGHBOUR_ROUNDS, NEIGHBOUR_SLA_BUDGET). Step 2 in one direction is a local search, and the
     frictional alpha, a minimum over mechanisms of loads that turn continuously, does not jump
@@ -219,7 +228,7 @@ def _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror)
     from limit import settings
 
     t0 = time.perf_counter()
-    by = settings.DEFAULT.lower_by
+    by = settings.DEFAULT.replace(changes or {}).lower_by
     order = sorted(todo)
     n = len(order)
     improved, active = {}, set(order)
@@ -242,7 +251,7 @@ def _neighbour_passes(data, todo, got, mechs, jobs, scheduler, parallel, mirror)
             starts = [(s, mechs[s]) for s in sorted(near) if s != t and s in known and
                       (fa(t) is None or fa(s) < fa(t) - by * abs(fa(t)))]
             if starts:
-                tasks.append((data, float(t), starts))
+                tasks.append((data, float(t), starts, changes))
         went_lower = []
 
         def record(out):
@@ -274,12 +283,13 @@ def _start(theta, mechs, passes) -> dict | None:
     return {"displacement": mechs[theta], "source": f"the sweep's direction {hit[2]:g} deg"}
 
 
-def _at(data: dict, theta: float, start: dict | None = None) -> dict:
+def _at(data: dict, theta: float, start: dict | None = None, changes: dict | None = None) -> dict:
     """The analysis in one direction (step 2 where it applies, also from ``start``, a collapse
-    state found in the sweep) with the code check there."""
+    state found in the sweep) with the code check there, with the settings ``changes``."""
     from limit.analysis import analyse
+    from limit.model.assemble import Options
     from limit.model.scene import load_scene
 
-    r = analyse(load_scene(_turn(data, theta, verdict=True)), method="auto",
+    r = analyse(load_scene(_turn(data, theta, verdict=True)), method="auto", options=Options(settings=changes or {}),
                 nlp_options=None if start is None else {"dem_state": start}).data
     return {"lp": r.get("lp"), "nlp": r.get("nlp"), "verdict": r.get("verdict")}

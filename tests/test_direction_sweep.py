@@ -30,6 +30,31 @@ def test_square_block_follows_the_closed_form_and_mirror_halves_the_work():
     assert np.allclose(half["alpha"], out["alpha"], rtol=1e-7)
 
 
+def test_the_settings_reach_every_directions_analysis(monkeypatch, capsys):
+    """``sweep(settings=...)`` (``limit sweep --set``): every direction's analysis, the neighbour
+    pass's and the one at the minimum get the changed setting, and each direction keeps its own
+    direction starts off; a bad --set is rejected input (exit 2) naming the key."""
+    import limit.analysis as an
+    from limit.cli import main
+
+    seen = []
+    real = an.analyse
+
+    def spy(scene, *a, options=None, **kw):
+        seen.append(dict(options.settings.__dict__) if options is not None else None)
+        return real(scene, *a, options=options, **kw)
+
+    monkeypatch.setattr(an, "analyse", spy)
+    data = B.single_block(3, 0.3, 1.0, t=0.3, mu=0.8)
+    out = sweep(data, 90.0, jobs=1, every=True, settings={"friction_starts": False})
+    assert out["min_alpha"] == pytest.approx(0.3, rel=1e-6) and len(seen) >= 5
+    assert all(s is not None and s["friction_starts"] is False for s in seen)
+    assert all(s["direction_starts_deg"] == 0 for s in seen[:4])  # the four directions
+    capsys.readouterr()
+    assert main(["sweep", "scenes/catalog/block-rocking-3d.json", "--set", "frob=1"]) == 2
+    assert "unknown setting 'frob'" in capsys.readouterr().err
+
+
 @pytest.mark.slow  # about 15 s: starts a Dask cluster
 def test_dask_workers_give_the_in_process_answers(monkeypatch):
     """The Dask path (forced: no start-up cost assumed) against the in-process sweep."""
@@ -141,7 +166,7 @@ def test_the_neighbour_pass_keeps_a_lower_verified_state_and_revisits_its_neighb
     calls = []
 
     def fake(args):
-        data, theta, starts = args
+        data, theta, starts = args[:3]
         calls.append((theta, [s for s, _ in starts]))
         if theta == 90.0:
             return theta, 0.31, {"b": [1.0]}, 0.0, 0.0
