@@ -159,6 +159,8 @@ def _parser() -> argparse.ArgumentParser:
     pd.add_argument("--method", choices=["lp", "nlp", "auto"], default="auto",
                     help="the analysis that checks each trial (default auto: step 2 where it can change the answer)")
     pd.add_argument("--dem", action="store_true", help="check the designed scene with YADE's pushover (slow)")
+    pd.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="change a setting (repeatable) in every trial's analysis, as for solve")
     pd.add_argument("-o", "--output", default=None, metavar="OUT.json", help="write the designed scene here")
     pd.add_argument("--json", default=None, metavar="OUT.json", help="write the design's record here")
     sub.add_parser("settings", help="list the settings (limit solve --set NAME=VALUE): default, unit, meaning")
@@ -264,13 +266,15 @@ def cmd_design(args) -> int:
     else:
         cands = list(data.get("ties", []))
     tell = lambda t: print(f"  {t}", file=sys.stderr, flush=True)  # noqa: E731
+    changes = settings_of_args(args)  # a bad --set is rejected input (exit 2)
     try:
         if args.target_alpha is None:
             from limit.tie_design import design_for_demand
 
-            out = design_for_demand(data, cands, method=args.method, keep=keep, progress=tell)
+            out = design_for_demand(data, cands, method=args.method, keep=keep, progress=tell, settings=changes)
         else:
-            out = design(data, cands, args.target_alpha, method=args.method, keep=keep, progress=tell)
+            out = design(data, cands, args.target_alpha, method=args.method, keep=keep, progress=tell,
+                         settings=changes)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
     lp = out["lp_capacities"]

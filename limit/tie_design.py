@@ -79,6 +79,16 @@ def least_capacity(data: dict, candidates: list, target: float, keep: list = ())
     return {"status": Status.OPTIMAL, "capacities": C.tolist(), "total": float(C.sum()), "reason": ""}
 
 
+def _analyser(changes: dict | None):
+    """:func:`limit.analysis.analyse` with the settings ``changes`` ({name: value}) in its options."""
+    import functools
+
+    from limit.analysis import analyse
+    from limit.model.assemble import Options
+
+    return functools.partial(analyse, options=Options(settings=dict(changes or {})))
+
+
 def _frictional(res: dict, method: str):
     """The frictional alpha of an analysis (step 2's; the LP's under ``method`` "lp"), or None."""
     step = res.get("nlp") or {}
@@ -89,15 +99,17 @@ def _frictional(res: dict, method: str):
 
 
 def design(data: dict, candidates: list, target: float, method: str = "auto", progress=None,
-           keep: list = ()) -> dict:
+           keep: list = (), settings: dict | None = None) -> dict:
     """The design of the module docstring: {"status" ("done", "infeasible", "out_of_reach",
     "failed"), "target", "lp_capacities" (step 1's, N), "factor" (step 2's common factor),
     "ties" (the designed tie entries, capacity in N, the unneeded dropped), "result" (the
     result dict of the designed scene's analysis), "trials" [(factor, frictional alpha)], "reason",
     "time_s"}. ``data``: the scene dict in its own units, as the candidates' points; ``keep``: the
-    scene's ties that stay as they are; ``progress(text)``: told of each trial."""
-    from limit.analysis import analyse
+    scene's ties that stay as they are; ``progress(text)``: told of each trial; ``settings``: the
+    settings to change ({name: value}, :mod:`limit.settings`) in every trial's analysis."""
     from limit.model.scene import load_scene
+
+    analyse = _analyser(settings)
 
     t0 = time.perf_counter()
     if not candidates:
@@ -193,16 +205,19 @@ def _linear_ratio(res: dict):
     return v.get("alpha0"), (min(ratios) if ratios else None)
 
 
-def design_for_demand(data: dict, candidates: list, method: str = "auto", progress=None, keep: list = ()) -> dict:
+def design_for_demand(data: dict, candidates: list, method: str = "auto", progress=None, keep: list = (),
+                      settings: dict | None = None) -> dict:
     """The design whose target is the code check of the scene's ``demand`` (NTC 2018, C8.7.1):
     the alpha at which its linear checks pass. The checked acceleration a0* = alpha0 g / (e* FC)
     is proportional to alpha0 for a given mechanism, so the target is alpha0 / ratio; ties change
     the mechanism and with it e*, so the design is repeated with the new ratio (each round's target
     at least the last one's) until the check passes, at most :data:`DEMAND_ROUNDS` times.
     Returns :func:`design`'s record with "rounds" [(target, alpha0, ratio)] and "check" (the
-    designed scene's verdict check); status "done" only when that check passes."""
-    from limit.analysis import analyse
+    designed scene's verdict check); status "done" only when that check passes. ``settings``: as
+    for :func:`design`."""
     from limit.model.scene import load_scene
+
+    analyse = _analyser(settings)
 
     t0 = time.perf_counter()
     scene = load_scene(_with(data, list(keep)))
@@ -224,7 +239,7 @@ def design_for_demand(data: dict, candidates: list, method: str = "auto", progre
         target = max(target * (1 + RTOL), alpha / ratio)
         if progress:
             progress(f"target alpha {target:.6g} (alpha {alpha:.6g} / ratio {ratio:.4g})")
-        out = design(data, candidates, target, method=method, progress=progress, keep=keep)
+        out = design(data, candidates, target, method=method, progress=progress, keep=keep, settings=settings)
         if out["status"] != CheckStatus.DONE:
             out.update(rounds=rounds, check=None, time_s=time.perf_counter() - t0)
             return out

@@ -41,6 +41,30 @@ def test_a_single_tie_is_designed_to_the_hand_computed_force(dim):
     assert out["result"]["nlp"]["alpha"] == pytest.approx(0.6, rel=1e-6)
 
 
+def test_the_settings_reach_every_trials_analysis(monkeypatch, capsys):
+    """``design(settings=...)`` (``limit design --set``): each trial's analysis gets the changed
+    setting, and the answer is the hand-computed one of the test above; a bad --set is rejected
+    input (exit 2) naming the key."""
+    import limit.analysis as an
+    from limit.cli import main
+
+    seen = []
+    real = an.analyse
+
+    def spy(scene, *a, options=None, **kw):
+        seen.append(options.settings.friction_starts if options is not None else None)
+        return real(scene, *a, options=options, **kw)
+
+    monkeypatch.setattr(an, "analyse", spy)
+    d, tie = _block_with_post(2)
+    out = design(d, [tie], 0.6, settings={"friction_starts": False})
+    assert out["status"] == "done" and out["ties"][0]["capacity"] == pytest.approx(0.2 * RHO_G * 0.4 / 2, rel=1e-6)
+    assert seen and all(v is False for v in seen)
+    capsys.readouterr()
+    assert main(["design", "scenes/catalog/block-tied-2d.json", "--target-alpha", "0.7", "--set", "frob=1"]) == 2
+    assert "unknown setting 'frob'" in capsys.readouterr().err
+
+
 @pytest.mark.slow  # about 25 s: a tie design with step 2 at every trial force
 def test_step_2_raises_the_lps_capacity_to_reach_the_target():
     """The side-by-side blocks (frictional 23/61 below the LP's 7/17 untied) with two candidate
