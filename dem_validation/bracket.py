@@ -47,6 +47,21 @@ def limit_analysis(scene) -> dict:
             "model": f"{CONE_FACES} inscribed sliding faces" if scene.dim == 3 else "2D, two sliding faces"}
 
 
+def rising_with_dt(dem: dict) -> bool:
+    """A run repeated at halved time steps (LMGC90's ``runs``, each with ``dt``) whose alpha rose at
+    every halving: the finest time step still errs low, by a part of the last rise."""
+    a = [r["alpha"] for r in dem.get("runs") or [] if r.get("dt") is not None and r.get("alpha") is not None]
+    return len(a) >= 2 and all(y > x for x, y in zip(a, a[1:]))
+
+
+def _time_step_note(dem: dict) -> str:
+    if dem.get("dt_converged") is False:
+        return "; this run's alpha still moved at its last halving of the time step"
+    if rising_with_dt(dem):
+        return "; this run's alpha rose at every halving of the time step"
+    return ""
+
+
 def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
     """The bracket entry of a DEM result ``dem`` against ``la`` ({"fric_alpha", "lp_alpha",
     "lp_factor" (default 1): the LP bound is lp_alpha x lp_factor}):
@@ -66,8 +81,7 @@ def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
                            "rigid blocks cannot collapse below the frictional minimum, so either step 2 missed a "
                            "lower state (limit solve --dem-start tries this run's state) or the engine adds "
                            "something rigid blocks do not have (time step, contact compliance, creep)"
-                           + ("; this run's alpha still moved at its last halving of the time step"
-                              if dem.get("dt_converged") is False else ""))}
+                           + _time_step_note(dem))}
     if lp is not None and a > lp * (1.0 + slack):
         return {**out, "verdict": "suspect", "side": "high",
                 "reason": (f"{a:.5g} is {100 * (a / lp - 1):.1f} % above the associative LP's upper bound {lp:.5g}: "

@@ -13,6 +13,8 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
+
 from . import plots, verdict, view3d, worst_direction
 
 FAIL = {"failed"}
@@ -413,6 +415,9 @@ def short_reason(r, col: str) -> str:
     if col == "lmgc" and str(r.get("lmgc_dt") or "").endswith("(not converged)"):
         return ("below step 2, and its alpha still moved at its last halving of the time step "
                 f"({r['lmgc_dt']}): a time-step artefact")
+    if col == "lmgc" and isinstance(r.get("lmgc_dt_rising"), (bool, np.bool_)) and r["lmgc_dt_rising"]:
+        return (f"below step 2, and its alpha rose at every halving of the time step ({r['lmgc_dt']}): the finest "
+                "step still errs low, a time-step artefact")
     if br == "suspect low":
         return "below step 2: a contradiction (a lower state step 2 missed, or an engine artefact)"
     return "below step 2, within the engine's own bracket slack"

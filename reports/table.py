@@ -21,8 +21,9 @@ Columns (alpha values dimensionless, times in seconds):
 * ``lmgc_*``: the LMGC90 run (rigid contacts), as ``dem_*``, with ``lmgc_err``,
   ``lmgc_vs_la`` and ``lmgc_similarity`` (all empty when LMGC90 did not run), and
   ``lmgc_creep`` (a trial that held never came to rest by speed: its blocks crept through the hold
-  or rattled in place) and ``lmgc_dt`` (each time step's alpha and whether they converged:
-  :func:`dt_text`);
+  or rattled in place), ``lmgc_dt`` (each time step's alpha and whether they converged:
+  :func:`dt_text`) and ``lmgc_dt_rising`` (its alpha rose at every halving of the time step:
+  :func:`dem_validation.bracket.rising_with_dt`);
 * ``cone_*``: the limit analysis of a 3D scene with 24 inscribed sliding faces (a
   near-circular friction cone, as in both dynamic engines): ``cone_status``,
   ``cone_lp_alpha``, ``cone_alpha`` (frictional: NLP, or step 2 from a DEM collapse state;
@@ -121,6 +122,8 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     has it (loading a scene of many parts takes seconds)."""
     from limit.model.scene import load_scene
 
+    from dem_validation.bracket import rising_with_dt
+
     from .dem_starts import adopted_alpha
 
     data = json.loads(Path(path).read_text())
@@ -177,7 +180,7 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     lm = lmgc or {}
     r.update(lmgc_status=lm.get("status"), lmgc_alpha=lm.get("alpha"), lmgc_time_s=lm.get("time_s"),
              lmgc_reason=lm.get("reason", lm.get("note", "")), lmgc_uncertainty=lm.get("alpha_uncertainty"),
-             lmgc_dead=bool(lm.get("dead_load_collapse")), lmgc_dt=dt_text(lm),
+             lmgc_dead=bool(lm.get("dead_load_collapse")), lmgc_dt=dt_text(lm), lmgc_dt_rising=rising_with_dt(lm),
              lmgc_creep=any(h.get("outcome") == "stable" and h.get("settled", "speed" if h.get("rest") else None)
                             != "speed" for h in lm.get("history") or []))
     r["lmgc_err"] = _rel(r["lmgc_alpha"], exp.get("alpha"))

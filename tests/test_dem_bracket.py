@@ -33,6 +33,11 @@ def test_judge_places_a_collapse_in_the_bracket(alpha, verdict, side):
         assert "above the associative LP's upper bound 0.4" in b["reason"]
     moving = judge({"status": "collapsed", "alpha": alpha, "dt_converged": False}, LA)
     assert ("still moved at its last halving" in moving["reason"]) == (side == "low")
+    runs = [{"dt": 1e-3, "alpha": 0.8 * alpha}, {"dt": 5e-4, "alpha": 0.9 * alpha}, {"dt": 2.5e-4, "alpha": alpha}]
+    rising = judge({"status": "collapsed", "alpha": alpha, "dt_converged": True, "runs": runs}, LA)
+    assert ("rose at every halving" in rising["reason"]) == (side == "low")
+    flat = judge({"status": "collapsed", "alpha": alpha, "dt_converged": True, "runs": runs[::-1]}, LA)
+    assert "halving" not in flat["reason"]
 
 
 def test_in_3d_the_lp_bound_is_widened_to_the_circular_cone():

@@ -568,6 +568,11 @@ def test_the_summary_counts_agreement_and_gives_each_other_result_one_linked_lin
     rows[2].update(lmgc_creep=False, lmgc_dt="0.001 s: 0.25, 0.0005 s: 0.265, 0.00025 s: 0.276 (not converged)")
     moving = render.summary_lines(pd.DataFrame(rows))[-1]["text"]
     assert "still moved at its last halving of the time step" in moving and "0.00025 s: 0.276" in moving
+    rows[2].update(lmgc_dt="0.001 s: 0.25, 0.0005 s: 0.27, 0.00025 s: 0.276 (converged)", lmgc_dt_rising=True)
+    rising = render.summary_lines(pd.DataFrame(rows))[-1]["text"]
+    assert "rose at every halving of the time step" in rising
+    rows[2].update(lmgc_dt_rising=False)
+    assert "a contradiction" in render.summary_lines(pd.DataFrame(rows))[-1]["text"]
 
 
 def test_the_la_stage_carries_the_capacity_curve_the_report_draws():
