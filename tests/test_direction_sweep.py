@@ -135,18 +135,20 @@ def test_the_frictional_worst_direction_is_not_the_lps():
 
     In its plane (+x) the LP's dilatant mechanism needs alpha = 1 and the frictional one 5/14 (the
     catalog scene's hand derivation: two blocks turning about the toe (1.2, 0.4) while the joints
-    above open and slide at zero normal force). Out of its plane (+-y) the wall overturns about its
-    base edge, alpha = (T/2) / (H/2) = 0.6 / 1.2 = 0.5, the LP's and step 2's alike. So the LP's
-    worst direction is +-y (0.5), and the frictional one +x (5/14): the LP's sweep alone points the
-    engineer at the wrong direction. Along -x the mirror image of the +x mechanism gives 5/14 too;
-    step 2, a local search, may stop above it there (it returns 0.4677), never below."""
+    above open and slide at zero normal force). Out of its plane (+-y) the LP's wall overturns about
+    its base edge, alpha = (T/2) / (H/2) = 0.6 / 1.2 = 0.5; step 2 there gives at most that (from a
+    reduced-friction state it can find a lower mixed one, 6/13 along -y) and, being a frictional
+    collapse state, at least the frictional minimum. So the LP's worst direction is +-y (0.5), and
+    the frictional one +x (5/14): the LP's sweep alone points the engineer at the wrong direction.
+    Along -x the mirror image of the +x mechanism gives 5/14 too; step 2, a local search, may stop
+    above it there (it returns 0.4677), never below."""
     data = B.running_bond_wall(3, 3, dim=3, L=0.4, H=0.4, T=0.6, mu=1.2, name="wall-3x3-3d")
     out = sweep(data, 90.0, jobs=1, every=True)
     assert out["alpha"] == pytest.approx([1.0, 0.5, 1.0, 0.5], rel=1e-6)
     assert out["min_theta"] in (90.0, 270.0) and out["min_alpha"] == pytest.approx(0.5, rel=1e-6)
     fric = out["alpha_frictional"]
     assert fric[0] == pytest.approx(5 / 14, rel=1e-4)
-    assert fric[1] == pytest.approx(0.5, rel=1e-6) and fric[3] == pytest.approx(0.5, rel=1e-6)
+    assert all(5 / 14 * (1 - 1e-4) <= fric[k] <= 0.5 * (1 + 1e-6) for k in (1, 3))
     assert 5 / 14 * (1 - 1e-4) <= fric[2] <= 1.0
     assert out["min_theta_frictional"] == 0.0 and out["min_alpha_frictional"] == pytest.approx(5 / 14, rel=1e-4)
     from limit.cli import _worse_elsewhere
