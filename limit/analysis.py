@@ -104,27 +104,19 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
     sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
     sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k != "dem_state"}
     t0 = time.perf_counter()
-    own_dem = part.get("dem_start")
-    entries = []
-    for turn in (deg, -deg):
-        try:
-            turned_scene = load_scene(turned(scene.data, turn))
-        except Exception as exc:  # noqa: BLE001 - a direction that cannot be built is recorded, not fatal
-            entries.append({"turn_deg": turn, "status": Status.FAILED, "reason": f"{type(exc).__name__}: {exc}"})
-            continue
-        nlp = _analyse(turned_scene, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False).data.get("nlp") or {}
-        if nlp.get("status") not in ANSWERED or not nlp.get("mechanism"):
-            entries.append({"turn_deg": turn, "status": Status.FAILED, "alpha_there": nlp.get("alpha"),
-                            "reason": f"step 2 there: {nlp.get('status')}"})
-            continue
-        part, entry = step2.adopt_dem_state(P, sol, part, {"displacement": nlp["mechanism"],
-                                                           "source": f"direction {turn:+g} deg"})
-        entries.append({"turn_deg": turn, "alpha_there": nlp.get("alpha"),
-                        **{k: entry.get(k) for k in ("status", "alpha", "adopted", "reason")}})
-    part = {k: v for k, v in part.items() if k != "dem_start"}
-    if own_dem is not None:
-        part["dem_start"] = own_dem
-    return {**part, "direction_starts": entries, "time_s": (part.get("time_s") or 0.0) + time.perf_counter() - t0}
+
+    def states():
+        for turn in (deg, -deg):
+            fields = {"turn_deg": turn}
+            try:
+                turned_scene = load_scene(turned(scene.data, turn))
+            except Exception as exc:  # noqa: BLE001 - a direction that cannot be built is recorded, not fatal
+                yield fields, None, f"{type(exc).__name__}: {exc}", ""
+                continue
+            sub = _analyse(turned_scene, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False)
+            yield fields, sub.data.get("nlp") or {}, "", f"direction {turn:+g} deg"
+
+    return _adopt_states(P, sol, part, states(), "direction_starts", t0)
 
 
 def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
@@ -148,28 +140,44 @@ def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
     sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
     sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k not in ("dem_state", "global_check", "iterative")}
     t0 = time.perf_counter()
+
+    def states():
+        for f in FRICTION_FACTORS:
+            I2 = dataclasses.replace(P.I, mu=P.I.mu * f, cohesion=P.I.cohesion * f)
+            P2 = assemble(P.scene, sub_options, interfaces=I2)
+            sol2, _, _ = solve_lp(P2)
+            if sol2.status != Status.OPTIMAL:
+                yield {"factor": f}, None, f"the LP there: {sol2.status}", ""
+                continue
+            yield {"factor": f}, step2.step2(P2, sol2, method="nlp", **sub_nlp), "", f"friction x {f:g}"
+
+    return _adopt_states(P, sol, part, states(), "friction_starts", t0)
+
+
+def _adopt_states(P, sol, part: dict, states, key: str, t0: float) -> dict:
+    """Step 2's part with each collapse state of ``states`` tried as a dynamic run's is
+    (:func:`limit.step2.adopt_dem_state`) and adopted where it verifies lower, the attempts listed
+    under ``key``. ``states`` yields (fields, nlp, failure, source): the fields naming the attempt,
+    the step-2 part found there (None when ``failure`` says why there is none) and the source
+    recorded with an adopted state. The part's own ``dem_start`` entry is kept; ``time_s`` grows by
+    the time since ``t0`` (perf_counter s)."""
     own_dem = part.get("dem_start")
     entries = []
-    for f in FRICTION_FACTORS:
-        I2 = dataclasses.replace(P.I, mu=P.I.mu * f, cohesion=P.I.cohesion * f)
-        P2 = assemble(P.scene, sub_options, interfaces=I2)
-        sol2, _, _ = solve_lp(P2)
-        if sol2.status != Status.OPTIMAL:
-            entries.append({"factor": f, "status": Status.FAILED, "reason": f"the LP there: {sol2.status}"})
+    for fields, nlp, failure, source in states:
+        if nlp is None:
+            entries.append({**fields, "status": Status.FAILED, "reason": failure})
             continue
-        nlp = step2.step2(P2, sol2, method="nlp", **sub_nlp)
         if nlp.get("status") not in ANSWERED or not nlp.get("mechanism"):
-            entries.append({"factor": f, "status": Status.FAILED, "alpha_there": nlp.get("alpha"),
+            entries.append({**fields, "status": Status.FAILED, "alpha_there": nlp.get("alpha"),
                             "reason": f"step 2 there: {nlp.get('status')}"})
             continue
-        part, entry = step2.adopt_dem_state(P, sol, part, {"displacement": nlp["mechanism"],
-                                                           "source": f"friction x {f:g}"})
-        entries.append({"factor": f, "alpha_there": nlp.get("alpha"),
+        part, entry = step2.adopt_dem_state(P, sol, part, {"displacement": nlp["mechanism"], "source": source})
+        entries.append({**fields, "alpha_there": nlp.get("alpha"),
                         **{k: entry.get(k) for k in ("status", "alpha", "adopted", "reason")}})
     part = {k: v for k, v in part.items() if k != "dem_start"}
     if own_dem is not None:
         part["dem_start"] = own_dem
-    return {**part, "friction_starts": entries, "time_s": (part.get("time_s") or 0.0) + time.perf_counter() - t0}
+    return {**part, key: entries, "time_s": (part.get("time_s") or 0.0) + time.perf_counter() - t0}
 
 
 def _with_dead_mechanism(P, lp: dict) -> dict:
