@@ -347,6 +347,8 @@ def scene_summary(r, la: dict | None = None) -> list[str]:
     LP, step 2 (and in 3D the same with the engines' near-circular cone), and each engine's
     alpha against the bracket [frictional alpha, LP]; with the ``la`` result, step 2's route and
     its checks too."""
+    from limit.results.summary import global_interval
+
     def stage(alpha, status, reason, t):
         if _finite(alpha) and status in ("optimal", "skipped"):
             return f"alpha = {alpha:.6g} ({status}{'' if not _finite(t) else f', {t:.2f} s'})"
@@ -366,7 +368,9 @@ def scene_summary(r, la: dict | None = None) -> list[str]:
         how.append("checked: " + ", ".join(res))
     g = nlp.get("global") or {}
     if g.get("status"):
-        how.append(f"global MILP {g['status']}" + (f" {g['alpha']:.6g}" if _finite(g.get("alpha")) else ""))
+        span = global_interval(nlp)
+        how.append(f"global MILP {g['status']}" + (f" {g['alpha']:.6g}" if _finite(g.get("alpha")) else "")
+                   + (f", the frictional minimum in [{span[0]:.6g}, {span[1]:.6g}]" if span else ""))
     if how:
         out[-1] = out[-1][:-1] + f" [{'; '.join(how)}]."
     lb = (la or {}).get("lower_bound") or {}

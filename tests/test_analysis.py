@@ -83,3 +83,26 @@ def test_step2_reports_a_negative_verified_alpha_as_infeasible(monkeypatch):
     sol, _, _ = solve_lp(P)
     part = step2.step2(P, sol, method="nlp", global_check=False)
     assert part["status"] == "infeasible" and part["alpha"] == -0.1 and "mechanism" in part
+
+
+def test_an_unproven_global_minimum_is_reported_as_an_interval():
+    """A MILP stopped at its time limit proves only a lower bound: the summary and the report give
+    the frictional minimum as [bound, step 2's answer]; a proven optimum or a missing bound gives
+    no interval. The numbers are made up here: the test checks the wording, not a solver."""
+    from limit.results.summary import global_interval
+    from reports.render import scene_summary
+
+    nlp = {"status": "optimal", "alpha": 0.181726, "route": "successive-lp",
+           "global": {"status": "time_limit", "alpha": 0.181726, "bound": 0.0421, "time_s": 400.0}}
+    assert global_interval(nlp) == (0.0421, 0.181726)
+    assert global_interval({**nlp, "global": {**nlp["global"], "bound": -0.5}}) == (0.0, 0.181726)
+    assert global_interval({**nlp, "global": {**nlp["global"], "status": "optimal"}}) is None
+    assert global_interval({**nlp, "global": {**nlp["global"], "bound": None}}) is None
+    assert global_interval({**nlp, "status": "failed", "alpha": None}) is None
+    res = {"scene": "s", "dim": 3, "n_free_blocks": 2, "n_interfaces": 3,
+           "lp": {"status": "optimal", "alpha": 0.19, "solver": "clarabel", "time_s": 0.1,
+                  "model": {"interfaces": 3, "n_slide": 24, "slide_fit": "inscribed"}}, "nlp": nlp}
+    assert "the frictional minimum lies in [0.0421, 0.181726]" in format_result(res)
+    row = {"lp_alpha": 0.19, "lp_status": "optimal", "lp_reason": "", "lp_time_s": 0.1, "fric_alpha": 0.181726,
+           "nlp_status": "optimal", "nlp_reason": "", "nlp_time_s": 5.0, "dim": 2}
+    assert any("[0.0421, 0.181726]" in line for line in scene_summary(row, {"nlp": nlp}))

@@ -3,7 +3,7 @@ content alone (a fresh result and a cached one print the same)."""
 from __future__ import annotations
 
 from limit.results.result_parts import ties_line
-from limit.solve.status import Status
+from limit.solve.status import GlobalStatus, Status
 
 
 def _alpha(part: dict) -> str:
@@ -44,6 +44,10 @@ def format_result(res: dict) -> str:
                          f"{g.get('time_s') or 0:.3g} s]" + (f"  gap of the NLP {g['gap']:.2e}" if g.get("gap") is not None else "")
                          + {True: "  (its point passed the check: the answer)",
                             False: "  (its point failed the check: not the answer)"}.get(g.get("adopted"), ""))
+            span = global_interval(nlp)
+            if span is not None:
+                lines.append(f"  not proven within the time limit: the frictional minimum lies in "
+                             f"[{span[0]:.6g}, {span[1]:.6g}] (the MILP's bound, the answer)")
         ds = nlp.get("dem_start")
         if ds:
             a = ds.get("alpha")
@@ -59,6 +63,22 @@ def format_result(res: dict) -> str:
     if lb:
         lines.append(bound_line(lb, nlp))
     return "\n".join(lines)
+
+
+def global_interval(nlp: dict | None) -> tuple[float, float] | None:
+    """(lower, upper): the interval that holds the frictional minimum when the global MILP stopped
+    at its time limit without a proof (``nlp.global.status`` "time_limit"): its proven bound
+    (clipped at 0, as alpha >= 0 in the MILP) and step 2's verified answer. None where the MILP
+    proved its optimum, has no bound, or step 2 has no verified alpha."""
+    g = (nlp or {}).get("global") or {}
+    bound, alpha = g.get("bound"), (nlp or {}).get("alpha")
+    if g.get("status") != GlobalStatus.TIME_LIMIT or bound is None or alpha is None or nlp.get("status") != Status.OPTIMAL:
+        return None
+    try:
+        lo = max(float(bound), 0.0)
+    except (TypeError, ValueError):
+        return None
+    return (lo, float(alpha)) if lo == lo and lo <= alpha else None
 
 
 def bound_line(lb: dict, nlp: dict | None) -> str:
