@@ -173,6 +173,7 @@ def entries(references: dict | None = None) -> dict:
     add(generated_arch_entry(references))
     for d in feature_entries():
         add(d)
+    add(thick_wall_entry())
     for stage, costs in (("dem", DEM_COST_S), ("lmgc", LMGC_COST_S)):
         for name, cost in costs.items():
             out[name].setdefault("meta", {}).setdefault(stage, {})["cost_s"] = float(cost)
@@ -338,6 +339,31 @@ def feature_entries() -> list:
     out.append(crushed)
     out.append(ntc_pier_entry())
     return out
+
+
+def thick_wall_entry() -> dict:
+    """The 3 x 3 running-bond wall of wall-3x3-opening-2d built in 3D, 0.6 m thick (1.2 m high, mu
+    1.2), live load along +x, swept every 15 degrees with step 2 in each direction: its frictional
+    worst direction is not the LP's.
+
+    In its plane (+-x) the LP's dilatant mechanism needs alpha = 1 and the frictional one 5/14, the
+    2D scene's hand derivation (every block 0.6 m thick, so the same ratio of works). Out of its
+    plane (+-y) the wall overturns about its base edge: alpha = (T / 2) / (H / 2) = 0.6 / 1.2 = 0.5
+    for the LP, and step 2 there is at most that. So the LP's worst direction is +-y (0.5) and the
+    frictional one +-x (5/14)."""
+    d = B.running_bond_wall(3, 3, dim=3, L=0.4, H=0.4, T=0.6, mu=1.2, name="wall-3x3-3d",
+                            expected={"alpha": 5 / 14, "alpha_lp": 1.0, "rtol": 1e-4,
+                                      "source": "by hand, as wall-3x3-opening-2d in its plane (every block 0.6 m "
+                                                "thick): c1-3 and c2-2 turn together about the toe (1.2, 0.4), "
+                                                "alpha = 0.04 / 0.112 = 5/14; the LP's dilatant mechanism needs 1"})
+    d["meta"] = {"title": "3 x 3 running-bond wall in 3D, 0.6 m thick: the frictional worst direction is not the LP's",
+                 "sweep": {"step": 15, "frictional": True},
+                 "notes": "The LP's worst direction is out of the plane (+-y: the wall overturns about its base "
+                          "edge at T / H = 0.5), where in its plane the LP's dilatant mechanism needs 1.0. Step 2 "
+                          "in its plane finds 5/14: two blocks turn about a toe while the joints above open and "
+                          "slide at zero normal force. So the frictional worst direction is in the plane, and a "
+                          "sweep of the LP alone points to the wrong one."}
+    return d
 
 
 def ntc_pier_entry() -> dict:
