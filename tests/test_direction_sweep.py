@@ -9,13 +9,17 @@ cos(theta) w, dead power -W (b/2) w, so alpha = (b/h) / cos(theta); about the ed
 alpha(theta) = (b/h) / max(|cos theta|, |sin theta|): b/h along the axes, sqrt(2) b/h on
 the diagonals.
 """
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from limit.direction_sweep import sweep
 from scenes import builders as B
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_square_block_follows_the_closed_form_and_mirror_halves_the_work():
@@ -130,8 +134,8 @@ def test_the_frictional_minimum_is_told_apart_only_when_lower():
 
 @pytest.mark.slow  # about 13 s: step 2 in four directions on a 3D wall
 def test_the_frictional_worst_direction_is_not_the_lps():
-    """The catalog's 3 x 3 running-bond wall (wall-3x3-opening-2d) built in 3D, 0.6 m thick, 1.2 m
-    high, mu 1.2, swept every 90 degrees with step 2 in each direction.
+    """The catalog's wall-3x3-3d: the 3 x 3 running-bond wall of wall-3x3-opening-2d built in 3D,
+    0.6 m thick, 1.2 m high, mu 1.2, swept every 90 degrees with step 2 in each direction.
 
     In its plane (+x) the LP's dilatant mechanism needs alpha = 1 and the frictional one 5/14 (the
     catalog scene's hand derivation: two blocks turning about the toe (1.2, 0.4) while the joints
@@ -142,7 +146,8 @@ def test_the_frictional_worst_direction_is_not_the_lps():
     the frictional one +x (5/14): the LP's sweep alone points the engineer at the wrong direction.
     Along -x the mirror image of the +x mechanism gives 5/14 too; step 2, a local search, may stop
     above it there (it returns 0.4677), never below."""
-    data = B.running_bond_wall(3, 3, dim=3, L=0.4, H=0.4, T=0.6, mu=1.2, name="wall-3x3-3d")
+    data = json.loads((ROOT / "scenes" / "catalog" / "wall-3x3-3d.json").read_text())
+    assert data["meta"]["sweep"]["frictional"]
     out = sweep(data, 90.0, jobs=1, every=True)
     assert out["alpha"] == pytest.approx([1.0, 0.5, 1.0, 0.5], rel=1e-6)
     assert out["min_theta"] in (90.0, 270.0) and out["min_alpha"] == pytest.approx(0.5, rel=1e-6)
