@@ -70,6 +70,9 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         if settings.of(P).friction_starts and sol.status == Status.OPTIMAL and \
                 len(scene.free) < settings.of(P).large_min_free and not needs_nlp(P, sol)[0]:
             part = _from_reduced_friction(P, sol, part, options, nlp_options)
+        if settings.of(P).mirror_starts and sol.status == Status.OPTIMAL and _turnable(scene) and \
+                len(scene.free) < settings.of(P).large_min_free:
+            part = _from_mirror(scene, P, sol, part, options, nlp_options)
         out["nlp"] = part
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic
@@ -152,6 +155,40 @@ def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
             yield {"factor": f}, step2.step2(P2, sol2, method="nlp", **sub_nlp), "", f"friction x {f:g}"
 
     return _adopt_states(P, sol, part, states(), "friction_starts", t0)
+
+
+def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
+    """Step 2's part, also from the collapse state of the scene under its live load reversed,
+    reflected by the vertical mirror across the load (the setting ``mirror_starts``;
+    :mod:`limit.model.reversal_mirror`), for a scene that this mirror maps onto itself; the part
+    unchanged for any other. Step 2 is a local search, and under the reversed load it can reach a
+    state that it misses under the scene's own (the catalog's wall-3x3-3d out of its plane: the LP's
+    0.5 at 90 deg, 6/13 at 270 deg); reflected, that state is one of the scene's at the same alpha.
+    It is tried as a dynamic run's is (:func:`limit.step2.adopt_dem_state`) and adopted where it
+    verifies lower; the part records it under ``mirror_starts``."""
+    import dataclasses
+
+    from limit.model import reversal_mirror
+    from limit.model.scene import load_scene
+    from limit.model.turned_load import turned
+
+    mirror = reversal_mirror.find(scene, P.I)
+    if mirror is None:
+        return part
+    sub_settings = settings.of(P).replace(mirror_starts=False, direction_starts_deg=0)
+    sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
+    sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k not in ("dem_state", "global_check", "iterative")}
+    t0 = time.perf_counter()
+
+    def states():
+        sub = _analyse(load_scene(turned(scene.data, 180.0)), "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False,
+                       sub_nlp, False)
+        nlp = sub.data.get("nlp") or {}
+        if nlp.get("mechanism"):
+            nlp = {**nlp, "mechanism": mirror.mechanism(scene, nlp["mechanism"])}
+        yield {"load": "reversed"}, nlp, "", "mirrored reversed-load"
+
+    return _adopt_states(P, sol, part, states(), "mirror_starts", t0)
 
 
 def _adopt_states(P, sol, part: dict, states, key: str, t0: float) -> dict:

@@ -71,9 +71,10 @@ def _lp_alpha(args) -> tuple:
         scene = load_scene(_turn(data, theta))
     except NoLiveWork:  # turned onto blocked dofs only: no mechanism in this direction
         return theta, Status.UNBOUNDED, None, time.perf_counter() - t0, None, None, None
-    # the neighbour pass turns states between directions instead (direction_starts_deg off)
+    # the neighbour pass turns states between directions instead (direction_starts_deg off), and the
+    # sweep solves the reversed direction itself (mirror_starts off)
     res = analyse(scene, method="auto" if frictional else "lp",
-                  options=Options(settings={**changes, "direction_starts_deg": 0}),
+                  options=Options(settings={**changes, "direction_starts_deg": 0, "mirror_starts": False}),
                   nlp_options={"global_check": False, "iterative": False, "arbitrary": False} if frictional else None).data
     lp, nlp = res.get("lp") or {}, res.get("nlp") or {}
     if not frictional:

@@ -78,6 +78,13 @@ class Settings:
         "those collapse states as starts (limit.analysis): sliding-first states that step 2 at full "
         "friction does not reach. It lowers the out-of-plane wall from t/H = 0.19048 to a verified "
         "0.181726, the MILP's best state (docs/performance.md)")
+    mirror_starts: bool = _s(
+        True, "route", "on/off",
+        "3D scenes loaded by body forces, below large_min_free free blocks, that a vertical mirror "
+        "across the live load maps onto themselves (limit.model.reversal_mirror): step 2 also runs with "
+        "the live load reversed and tries that collapse state, reflected, as a start (limit.analysis). "
+        "It lowers the catalog's wall-3x3-3d loaded out of its plane (turned by 90 deg) from the LP's "
+        "0.5 to a verified 6/13, the state step 2 reaches under the reversed load (docs/performance.md)")
     global_max_blocks: int = _s(
         30, "route", "free blocks",
         "the mixed-integer global check (--global) runs for scenes up to this many; above it is skipped")

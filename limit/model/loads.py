@@ -62,3 +62,17 @@ def assemble(scene, loads) -> np.ndarray:
 def dead_and_live(scene) -> tuple[np.ndarray, np.ndarray]:
     """(f0, fL): the dead and live generalised forces, each (n_free, ndof)."""
     return assemble(scene, scene.dead), assemble(scene, scene.live)
+
+
+def horizontal_direction(scene) -> np.ndarray:
+    """Unit vector (d,) of the live load's resultant force with its component along gravity
+    removed; raises ValueError when the live load has no horizontal resultant."""
+    _, fL = dead_and_live(scene)
+    F = fL[:, :scene.dim].sum(axis=0)
+    g = np.asarray(scene.gravity, dtype=float)
+    down = g / np.linalg.norm(g)
+    h = F - (F @ down) * down
+    n = float(np.linalg.norm(h))
+    if n <= 1e-12 * max(float(np.linalg.norm(F)), 1e-300):
+        raise ValueError("the live load has no horizontal resultant: no seismic direction to check")
+    return h / n

@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from limit.model.dims import rigid_velocity
+from limit.model.loads import horizontal_direction  # noqa: F401 - part of this module's interface
 
 #: a point of application moves when its speed exceeds this fraction of the largest
 MOVING = 1e-6
@@ -51,22 +52,6 @@ def weights(scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
                 idx.append(i), pts.append(p), P.append(f)
     d = scene.dim
     return (np.asarray(idx, dtype=int), np.asarray(pts, dtype=float).reshape(-1, d), np.asarray(P, dtype=float))
-
-
-def horizontal_direction(scene) -> np.ndarray:
-    """Unit vector (d,) of the live load's resultant force with its component along gravity
-    removed; raises ValueError when the live load has no horizontal resultant."""
-    from limit.model.loads import dead_and_live
-
-    _, fL = dead_and_live(scene)
-    F = fL[:, :scene.dim].sum(axis=0)
-    g = np.asarray(scene.gravity, dtype=float)
-    down = g / np.linalg.norm(g)
-    h = F - (F @ down) * down
-    n = float(np.linalg.norm(h))
-    if n <= 1e-12 * max(float(np.linalg.norm(F)), 1e-300):
-        raise ValueError("the live load has no horizontal resultant: no seismic direction to check")
-    return h / n
 
 
 def point_velocities(scene, mechanism: dict, idx: np.ndarray, pts: np.ndarray) -> np.ndarray:
