@@ -181,8 +181,12 @@ def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
     t0 = time.perf_counter()
 
     def states():
-        sub = _analyse(load_scene(turned(scene.data, 180.0)), "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False,
-                       sub_nlp, False)
+        try:
+            reversed_scene = load_scene(turned(scene.data, 180.0))
+        except Exception as exc:  # noqa: BLE001 - a scene that cannot be built reversed is recorded, not fatal
+            yield {"load": "reversed"}, None, f"{type(exc).__name__}: {exc}", ""
+            return
+        sub = _analyse(reversed_scene, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False)
         nlp = sub.data.get("nlp") or {}
         if nlp.get("mechanism"):
             nlp = {**nlp, "mechanism": mirror.mechanism(scene, nlp["mechanism"])}
