@@ -18,6 +18,7 @@ no ties, pressure loads or blocked dofs.
 """
 from __future__ import annotations
 
+from collections import defaultdict
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,8 +49,16 @@ class Mirror:
         return out
 
 
-def _reflect(p: np.ndarray, c: np.ndarray, n: np.ndarray) -> np.ndarray:
+def reflect(p: np.ndarray, c: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """Points p (k, 3) mirrored about the plane through c (3,) with unit normal n (3,)."""
     return p - 2.0 * ((p - c) @ n)[:, None] * n
+
+
+def same_shape(blocks, i: int, j: int, c: np.ndarray, n: np.ndarray, tol: float) -> bool:
+    """Whether block i's corners, mirrored, are block j's (each within ``tol``, m)."""
+    vi = reflect(np.asarray(blocks[i].poly.vertices, float), c, n)
+    vj = np.asarray(blocks[j].poly.vertices, float)
+    return len(vi) == len(vj) and bool(np.all(np.min(np.linalg.norm(vi[:, None] - vj[None], axis=2), axis=1) <= tol))
 
 
 def _loads_qualify(scene, h: np.ndarray) -> bool:
@@ -71,19 +80,14 @@ def _images(scene, c: np.ndarray, n: np.ndarray, tol: float) -> np.ndarray | Non
     cen = np.array([b.centroid for b in blocks], dtype=float)
     vol = np.array([b.volume for b in blocks], dtype=float)
     key = [(b.fixed, b.density) for b in blocks]
-    img = _reflect(cen, c, n)
+    img = reflect(cen, c, n)
     out = np.full(len(blocks), -1)
-    for i, b in enumerate(blocks):
+    for i in range(len(blocks)):
         near = np.flatnonzero((np.linalg.norm(cen - img[i], axis=1) <= tol) & (np.abs(vol - vol[i]) <= TOL * vol[i]))
-        vi = _reflect(np.asarray(b.poly.vertices, float), c, n)
-        for j in near:
-            vj = np.asarray(blocks[j].poly.vertices, float)
-            if key[j] == key[i] and len(vj) == len(vi) and \
-                    np.all(np.min(np.linalg.norm(vi[:, None] - vj[None], axis=2), axis=1) <= tol):
-                out[i] = j
-                break
-        else:
+        match = next((int(j) for j in near if key[j] == key[i] and same_shape(blocks, i, int(j), c, n, tol)), None)
+        if match is None:
             return None
+        out[i] = match
     return out if len(set(out.tolist())) == len(blocks) else None
 
 
@@ -92,10 +96,10 @@ def _interfaces_match(I, image: np.ndarray, c: np.ndarray, n: np.ndarray, tol: f
     same area and strength."""
     props = [np.asarray(I.area, float), np.asarray(I.mu, float)] + \
         [np.asarray(p, float) for p in (I.cohesion, I.tensile, I.fc) if p is not None]
-    pair = {(int(min(a, b)), int(max(a, b))): [] for a, b in zip(I.a, I.b)}
+    pair = defaultdict(list)
     for k, (a, b) in enumerate(zip(I.a, I.b)):
         pair[(int(min(a, b)), int(max(a, b)))].append(k)
-    img = _reflect(np.asarray(I.centroid, float), c, n)
+    img = reflect(np.asarray(I.centroid, float), c, n)
     for k, (a, b) in enumerate(zip(I.a, I.b)):
         ia, ib = int(image[a]), int(image[b])
         cands = pair.get((min(ia, ib), max(ia, ib)), [])

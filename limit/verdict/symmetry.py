@@ -14,9 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-#: centroids match within this x the scene's bounding-box diagonal (m/m)
-TOL = 1e-6
-
+from limit.model.reversal_mirror import TOL, reflect, same_shape
 
 def mirror_plane(scene) -> tuple[np.ndarray, np.ndarray]:
     """(point c (3,), unit normal n (3,)) of the mirror plane of a 3D scene."""
@@ -33,11 +31,6 @@ def mirror_plane(scene) -> tuple[np.ndarray, np.ndarray]:
     return c, n / np.linalg.norm(n)
 
 
-def _mirror(p: np.ndarray, c: np.ndarray, n: np.ndarray) -> np.ndarray:
-    """Points p (k, 3) mirrored about the plane through c with unit normal n."""
-    return p - 2.0 * ((p - c) @ n)[:, None] * n
-
-
 def check_mirror(scene) -> None:
     """Raise ValueError naming the block farthest from having a mirror partner (module docstring)."""
     c, n = mirror_plane(scene)
@@ -45,15 +38,8 @@ def check_mirror(scene) -> None:
     vol = np.array([b.volume for b in scene.blocks], dtype=float)
     fixed = np.array([b.fixed for b in scene.blocks])
     size = float(np.linalg.norm(np.ptp(cen, axis=0))) or 1.0
-    mirrored = _mirror(cen, c, n)
+    mirrored = reflect(cen, c, n)
     tol = TOL * size
-
-    def same_shape(i, j) -> bool:  # block i's mirrored corners are block j's
-        vi = _mirror(np.asarray(scene.blocks[i].poly.vertices, float), c, n)
-        vj = np.asarray(scene.blocks[j].poly.vertices, float)
-        if len(vi) != len(vj):
-            return False
-        return bool(np.all(np.min(np.linalg.norm(vi[:, None] - vj[None], axis=2), axis=1) <= tol))
 
     free = [i for i, b in enumerate(scene.blocks) if not b.fixed]  # supports count by their contacts (below)
     miss = {}
@@ -61,7 +47,7 @@ def check_mirror(scene) -> None:
         dist = np.linalg.norm(cen - mirrored[i], axis=1)
         like = (np.abs(vol - vol[i]) <= 1e-6 * vol[i]) & ~fixed
         ok = np.flatnonzero(like & (dist <= tol))
-        if not any(same_shape(i, int(j)) for j in ok):
+        if not any(same_shape(scene.blocks, i, int(j), c, n, tol) for j in ok):
             miss[i] = float(dist[like].min(initial=np.inf))
     if miss:  # the worst first: a moved block also moves the plane a little for all others
         i = max(miss, key=miss.get)
@@ -72,7 +58,7 @@ def check_mirror(scene) -> None:
 
     I = find_interfaces(scene)
     ic = np.asarray(I.centroid, float)
-    im = _mirror(ic, c, n)
+    im = reflect(ic, c, n)
     area = np.asarray(I.area, float)
     for k in range(len(I)):
         dist = np.linalg.norm(ic - im[k], axis=1)
