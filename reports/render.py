@@ -67,11 +67,10 @@ def explain(r) -> list[str]:
         s.append(f"The mixed-integer LP proves the global frictional minimum {r['global_alpha']:.6g}; "
                  + ("the NLP reached it." if at else "the NLP stopped above it (a local solution)."))
     elif r.get("global_status") == "time_limit":
-        best = [a for a in (r.get("global_alpha"), r.get("nlp_alpha")) if _finite(a)]
         s.append("The mixed-integer LP did not prove its optimum within its time limit"
                  + (f" (best found {r['global_alpha']:.6g})" if _finite(r.get("global_alpha")) else "")
-                 + (f": the frictional minimum lies in [{max(r['global_bound'], 0.0):.6g}, {min(best):.6g}], its proven "
-                    "lower bound and the lowest checked state." if _finite(r.get("global_bound")) and best else "."))
+                 + (f": the frictional minimum lies in [{r['global_lo']:.6g}, {r['global_hi']:.6g}], its proven "
+                    "lower bound and step 2's checked answer." if _finite(r.get("global_lo")) else "."))
     if _finite(r.get("iter_alpha")):
         s.append(f"The iterative LP of Gilbert et al. (2006) gives {r['iter_alpha']:.6g} ({r['iter_status']}).")
     ds = r.get("dem_status")

@@ -45,6 +45,7 @@ import numpy as np
 import pandas as pd
 
 from limit.model.dims import rigid_velocity
+from limit.results.summary import global_interval
 
 
 def vertex_motion(scene, per_block: dict) -> np.ndarray:
@@ -148,7 +149,8 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     r.update(nlp_status=nlp.get("status"), nlp_alpha=nlp.get("alpha"), nlp_time_s=nlp.get("time_s"),
              nlp_reason=nlp.get("reason", ""), nlp_arbitrary_alpha=nlp.get("alpha_arbitrary_start"))
     r.update(global_status=g.get("status"), global_alpha=g.get("alpha"), global_time_s=g.get("time_s"),
-             global_bound=g.get("bound"), iter_status=it.get("status"), iter_alpha=it.get("alpha"))
+             iter_status=it.get("status"), iter_alpha=it.get("alpha"))
+    r["global_lo"], r["global_hi"] = global_interval(nlp) or (None, None)
     fric = [a for a in (nlp.get("alpha") if nlp.get("status") in ("optimal", "skipped") else None,
                         g.get("alpha") if g.get("status") in ("optimal", "time_limit") else None) if a is not None]
     r["fric_alpha"] = r["fric_alpha_step2"] = min(fric) if fric else None

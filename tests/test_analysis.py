@@ -106,3 +106,7 @@ def test_an_unproven_global_minimum_is_reported_as_an_interval():
     row = {"lp_alpha": 0.19, "lp_status": "optimal", "lp_reason": "", "lp_time_s": 0.1, "fric_alpha": 0.181726,
            "nlp_status": "optimal", "nlp_reason": "", "nlp_time_s": 5.0, "dim": 2}
     assert any("[0.0421, 0.181726]" in line for line in scene_summary(row, {"nlp": nlp}))
+    from reports.render import explain
+
+    row.update(global_status="time_limit", global_alpha=0.181726, global_lo=0.0421, global_hi=0.181726)
+    assert any("lies in [0.0421, 0.181726]" in line for line in explain(row))
