@@ -16,7 +16,7 @@ from limit.solve.nlp_problem import build
 from limit.results.result_parts import interfaces_part, ties_part
 
 
-ALL_STRATEGIES = ("penalty", "random", "friction", "coarse")
+ALL_STRATEGIES = ("penalty", "random", "friction", "vertex", "coarse")
 #: a budget or time limit given as this is the setting's (nlp_time_budget, global_time_limit)
 FROM_SETTINGS = "settings"
 
@@ -31,7 +31,9 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     initial penalties 1, 0.1 and 0.01 (a low penalty lets it wander further before
     complementarity is enforced), a few times with random positive costs on the
     multipliers (nlp_starts.RANDOM_RESTARTS, by ``many_restarts_max_vars``; seeded, reproducible), and from the associative
-    LPs at reduced friction (:func:`limit.solve.nlp_starts.reduced_friction_starts`). The problem is
+    LPs at reduced friction (:func:`limit.solve.nlp_starts.reduced_friction_starts`). Where none of
+    these verifies, it runs from the LP's simplex vertex (:func:`_vertex_plan`, strategy "vertex")
+    and then from the coarser friction polygon (:func:`_coarse_plan`, "coarse"). The problem is
     non-convex: each run ends at a local solution; the lowest alpha that passes
     the independent check is kept and every run is listed. ``time_budget`` (s, None:
     none, "settings": ``nlp_time_budget``): once it is spent and a verified point is in hand,
@@ -81,14 +83,19 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
         lo[N.ia] = 0.0
         lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, N.kh, lo, hi)
     runs, best = [], None
-    coarse = "coarse" in strategies and nlp_starts.coarse_slide_faces(P) is not None
+    fallbacks = []  # run in turn, each once, while no point has verified
+    if "vertex" in strategies and start == "lp":
+        fallbacks.append(lambda: _vertex_plan(P, N, lp_sol, backend, runs))
+    if "coarse" in strategies and nlp_starts.coarse_slide_faces(P) is not None:
+        fallbacks.append(lambda: _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs))
     k = -1
     while True:
         k += 1
-        if k == len(plan) and coarse and not (best is not None and best[1]):
-            coarse = False  # once
-            if hard is None or time.perf_counter() < hard:
-                plan += _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs)
+        while k == len(plan) and fallbacks and not (best is not None and best[1]) \
+                and (hard is None or time.perf_counter() < hard):
+            if lp is not None:
+                lp.cold()  # a fallback's first run starts from a cold basis, not the last failed run's
+            plan += fallbacks.pop(0)()
         if k >= len(plan):
             break
         lab, zs, name, rho0, jitter = plan[k]
@@ -119,16 +126,29 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
             "runs": runs, "time_s": time.perf_counter() - t0}
 
 
+def _vertex_plan(P, N, lp_sol, backend, runs) -> list:
+    """The SLA runs (initial penalties 1, 0.1, 0.01) from the LP's simplex vertex
+    (:func:`limit.solve.nlp_starts.vertex_start`), for :func:`run` when its own plan verified no
+    point; an entry in ``runs`` says why there are none."""
+    z0 = nlp_starts.vertex_start(P, N, lp_sol, backend)
+    if z0 is None:
+        if lp_sol.solver not in nlp_starts.VERTEX_SOLVERS:
+            runs.append({"start": "lp-vertex", "solver": "sla", "verified": False,
+                         "reason": "no simplex vertex of the LP with a non-associative mechanism"})
+        return []
+    return [("lp-vertex", z0, "sla", r, None) for r in (1.0, 0.1, 0.01)]
+
+
 def _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs) -> list:
     """The runs from the coarser friction polygon (:func:`limit.solve.nlp_starts.coarse_slide_faces`),
     for :func:`run` when its own plan verified no point: step 2 of the coarse model (every
     strategy but this one, within what is left of ``hard``), its point transferred to N
     (:func:`limit.solve.nlp_starts.transfer`) and the SLA run from there. With many sliding faces
-    the successive LP ends at more stationary points that are not complementary: on a 37-block
-    dome (3 rings of 12 voussoirs and a cap) every run with 24 faces did, while with the 8 faces
-    inside them one run verified 0.479957, and that point's actions, with the mechanism re-solved
-    for the 24 faces, are a frictional collapse state of the 24-face model. Each run is listed
-    in ``runs`` (the coarse model's step 2 as one entry)."""
+    the successive LP ends at more stationary points that are not complementary; a point of the
+    8 faces inside them has actions that, with the mechanism re-solved for the 24 faces, start
+    the SLA from a statically admissible state of the finer model (tests/test_step2_domes.py,
+    a dome of 3 rings of 12 voussoirs and a cap). Each run is listed in ``runs`` (the coarse
+    model's step 2 as one entry)."""
     n_c = nlp_starts.coarse_slide_faces(P)
     t0 = time.perf_counter()
     from limit.solve.checked_lp import solve_lp

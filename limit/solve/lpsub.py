@@ -120,6 +120,10 @@ class HighsLP:
         self.h, self.n = h, n
         self._idx = np.arange(n, dtype=np.int32)
 
+    def cold(self) -> None:
+        """Forget the basis: the next solve starts cold, not from the previous solve's basis."""
+        self.h.clearSolver()
+
     def solve(self, c) -> LPResult:
         h = self.h
         h.changeColsCost(self.n, self._idx, np.asarray(c, dtype=float))

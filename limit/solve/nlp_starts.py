@@ -71,6 +71,33 @@ def reduced_friction_starts(P, N: NLPProblem, backend: str, factors=FRICTION_FAC
     return out
 
 
+#: the LP solvers whose optimum is a vertex (a basic solution); the others end inside the optimal face
+VERTEX_SOLVERS = ("highs",)
+
+
+def vertex_start(P, N: NLPProblem, lp_sol, backend: str) -> np.ndarray | None:
+    """A second start from the LP's optimal face: the basic solution of HiGHS's dual simplex,
+    made compatible with the non-associative flow (phase 1); None where ``lp_sol`` is a vertex
+    already (its solver is in :data:`VERTEX_SOLVERS`), or the simplex solution fails its check.
+
+    An interior-point LP (Clarabel, ECOS, the project's IPM) ends near the centre of the optimal
+    face, where every joint that can flow carries a share of the mechanism; the simplex ends at
+    a vertex, with a mechanism on few joints. The two lead the successive LP to different local
+    solutions: on the 8-face model of a dome of 3 rings of 12 voussoirs and a cap, the 12 runs
+    from Clarabel's point end at points that are not complementary (residuals 9e-4 to 1e-2),
+    and the first run from the vertex verifies (docs/performance.md).
+    """
+    from limit.solve.checked_lp import solve_lp
+
+    if lp_sol.solver in VERTEX_SOLVERS:
+        return None
+    sol, _, _ = solve_lp(P, solver=VERTEX_SOLVERS[0], fallback=False)
+    if sol.status != Status.OPTIMAL:
+        return None
+    z0, _ = phase1(N, lp_start(N, sol), backend)
+    return z0
+
+
 def coarse_slide_faces(P) -> int | None:
     """The sliding faces of the coarser friction polygon of :func:`coarse_polygon_starts`, or None
     where there is none: a 3D scene of the "paper" model whose polygon is inscribed with n faces,
