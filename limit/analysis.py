@@ -8,6 +8,7 @@ parts are built by :mod:`limit.results.result_parts`.
 from __future__ import annotations
 
 import functools
+import logging
 import time
 from dataclasses import dataclass
 
@@ -18,6 +19,8 @@ from limit.model.assemble import Assembled, Options, assemble
 from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
 from limit.solve.nlp import needs_nlp
 from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
+
+log = logging.getLogger(__name__)
 
 
 #: units of every number in a result, whatever the scene file's ``units`` (converted on reading)
@@ -61,17 +64,24 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
            "n_free_blocks": int(len(scene.free)), "n_interfaces": len(P.I), "units": dict(RESULT_UNITS)}
     lp = lp_result(P, sol, attempts, residuals, time.perf_counter() - t0)
     out["lp"] = _with_dead_mechanism(P, lp) if sol.status == Status.INFEASIBLE else lp
+    log.info("%s: LP %s, alpha %s (%.1f s)", scene.name, sol.status, "-" if sol.alpha is None else f"{sol.alpha:.6g}",
+             time.perf_counter() - t0)
     if method != "lp":
         part = step2.step2(P, sol, method=method, **(nlp_options or {}))
+        log.info("%s: step 2 %s, alpha %s", scene.name, part.get("status"),
+                 "-" if part.get("alpha") is None else f"{part['alpha']:.6g}")
         deg = settings.of(P).direction_starts_deg
         if deg > 0 and sol.status == Status.OPTIMAL and _turnable(scene) and \
                 len(scene.free) < settings.of(P).large_min_free:
+            log.info("%s: step 2 with the live load turned by +-%g deg", scene.name, deg)
             part = _from_turned_directions(scene, P, sol, part, deg, options, nlp_options)
         if settings.of(P).friction_starts and sol.status == Status.OPTIMAL and \
                 len(scene.free) < settings.of(P).large_min_free and not needs_nlp(P, sol)[0]:
+            log.info("%s: step 2 at reduced friction", scene.name)
             part = _from_reduced_friction(P, sol, part, options, nlp_options)
         if settings.of(P).mirror_starts and sol.status == Status.OPTIMAL and _turnable(scene) and \
                 len(scene.free) < settings.of(P).large_min_free:
+            log.info("%s: step 2 under the reversed live load, mirrored", scene.name)
             part = _from_mirror(scene, P, sol, part, options, nlp_options)
         out["nlp"] = part
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound

@@ -509,7 +509,31 @@ def _one_line_warnings() -> None:
     warnings.showwarning = lambda msg, cat, *a, **k: print(f"warning: {msg}", file=sys.stderr)
 
 
+def _progress_log() -> None:
+    """Progress of long solves (the ``limit`` loggers' INFO records) as lines on stderr where it
+    is a terminal; the environment variable LIMIT_LOG_LEVEL (INFO, WARNING, ...) sets the level
+    anywhere. Python callers configure the ``limit`` logger as usual."""
+    import logging
+    import os
+
+    class Stderr(logging.StreamHandler):
+        """A handler that writes to the sys.stderr of the moment (callers and tests swap it)."""
+
+        stream = property(lambda self: sys.stderr, lambda self, value: None)
+
+    level = os.environ.get("LIMIT_LOG_LEVEL") or ("INFO" if sys.stderr.isatty() else "WARNING")
+    logger = logging.getLogger("limit")
+    if not any(type(h).__name__ == "Stderr" for h in logger.handlers):
+        handler = Stderr()
+        handler.setFormatter(logging.Formatter("%(message)s"))
+        logger.addHandler(handler)
+    try:
+        logger.setLevel(level.upper())
+    except ValueError:
+        raise SceneError(f"LIMIT_LOG_LEVEL: {level!r} is not a logging level (DEBUG, INFO, WARNING, ERROR)") from None
+
+
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     _one_line_warnings()
-    return run_command(lambda: COMMANDS[args.command](args), debug_env="LIMIT_DEBUG")
+    return run_command(lambda: (_progress_log(), COMMANDS[args.command](args))[1], debug_env="LIMIT_DEBUG")

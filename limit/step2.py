@@ -5,6 +5,7 @@ restarts, or the large-scale route of :mod:`limit.solve.step2_large`), the indep
 budgets and margins are settings (:mod:`limit.settings`), read from the problem's options."""
 from __future__ import annotations
 
+import logging
 import time
 
 import numpy as np
@@ -15,6 +16,8 @@ from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, s
 from limit.solve.nlp_problem import build
 from limit.results.result_parts import interfaces_part, ties_part
 
+
+log = logging.getLogger(__name__)
 
 ALL_STRATEGIES = ("penalty", "random", "friction", "vertex", "coarse")
 #: a budget or time limit given as this is the setting's (nlp_time_budget, global_time_limit)
@@ -85,9 +88,15 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     runs, best = [], None
     fallbacks = []  # run in turn, each once, while no point has verified
     if "vertex" in strategies and start == "lp":
-        fallbacks.append(lambda: _vertex_plan(P, N, lp_sol, backend, runs))
+        def vertex():
+            """from the LP's simplex vertex"""
+            return _vertex_plan(P, N, lp_sol, backend, runs)
+        fallbacks.append(vertex)
     if "coarse" in strategies and nlp_starts.coarse_slide_faces(P) is not None:
-        fallbacks.append(lambda: _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs))
+        def coarse():
+            """from the coarser friction polygon"""
+            return _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs)
+        fallbacks.append(coarse)
     k = -1
     while True:
         k += 1
@@ -95,6 +104,7 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
                 and (hard is None or time.perf_counter() < hard):
             if lp is not None:
                 lp.cold()  # a fallback's first run starts from a cold basis, not the last failed run's
+            log.info("step 2: none of %d runs verified; %s", k, fallbacks[0].__doc__)
             plan += fallbacks.pop(0)()
         if k >= len(plan):
             break
@@ -118,6 +128,8 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
                "alpha_raw": alpha_raw, "verified": ok, "reason": why, "notes": [note, pnote],
                "time_s": time.perf_counter() - t1}
         runs.append(run)
+        log.info("step 2: run %d of %d (%s start, %s%s): alpha %.6g, %s (%.1f s)", k + 1, len(plan), lab, name,
+                 "" if name != "sla" else f", penalty {rho0:g}", run["alpha"], "verified" if ok else why, run["time_s"])
         if best is None or (ok, -zf[N.ia]) > (best[1], -best[0][N.ia]):
             best = (zf, ok, res, why, run)
     zf, ok, res, why, run = best

@@ -164,3 +164,23 @@ def test_solve_keeps_its_result_in_the_cache(tmp_path, write_scene, monkeypatch,
     d["friction"] = 0.9
     scene.write_text(_json.dumps(d))
     assert main(args) == 0 and "result cache" not in capsys.readouterr().err
+
+
+def test_progress_of_a_solve_goes_to_stderr_when_asked(capsys, monkeypatch):
+    """LIMIT_LOG_LEVEL=INFO: the LP's line and one line per step-2 run on stderr, the summary on
+    stdout unchanged; without it (stderr not a terminal) no progress lines; a level that logging
+    does not know is rejected with the variable's name (exit 2)."""
+    monkeypatch.setenv("LIMIT_LOG_LEVEL", "INFO")
+    p = _run_solve(capsys, "solve", str(SIDE), "--method", "nlp", "--no-cache")
+    assert p.returncode == 0
+    assert f"side-by-side-2d: LP optimal, alpha {ALPHA_LP:.6g}" in p.stderr
+    runs = [ln for ln in p.stderr.splitlines() if ln.startswith("step 2: run ")]
+    assert runs and runs[0].startswith("step 2: run 1 of ")
+    assert f"side-by-side-2d: step 2 optimal, alpha {ALPHA_NLP:.6g}" in p.stderr
+    assert "step 2: run" not in p.stdout
+    monkeypatch.delenv("LIMIT_LOG_LEVEL")
+    q = _run_solve(capsys, "solve", str(SIDE), "--method", "nlp", "--no-cache")
+    assert q.returncode == 0 and "step 2: run" not in q.stderr
+    monkeypatch.setenv("LIMIT_LOG_LEVEL", "chatty")
+    r = _run_solve(capsys, "solve", str(SIDE), "--no-cache")
+    assert r.returncode == 2 and "LIMIT_LOG_LEVEL" in r.stderr
