@@ -46,6 +46,7 @@ docs/performance.md, 'Step 2 at scale'.
 """
 from __future__ import annotations
 
+import logging
 import time
 from typing import NamedTuple
 
@@ -55,6 +56,8 @@ from limit import settings
 from limit.solve.status import IterativeStatus, Status
 from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, piece_statics, rigid_clusters
 from limit.solve.nlp_problem import build
+
+log = logging.getLogger(__name__)
 
 #: relaxation of N* per dimension, halved (down to OMEGA_MIN) whenever the complementarity residual
 #: has no new low for STALL LPs; a start with no new low for STALL LPs at OMEGA_MIN stops as stalled,
@@ -446,6 +449,8 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
         return {"ok": False, "reason": "no start: the dead load alone has no equilibrium", "starts": [],
                 "time_s": time.perf_counter() - t0, "N": N, "workers": 0}
     workers = min(len(plan), cores)
+    log.info("step 2, large-scale route: %d start(s) (%s) on %d process(es)", len(plan),
+             ", ".join(label for label, _ in plan), workers)
     grace = _very_large(P)  # the starts stop GRACE after the first verified one (2D, very large)
     results = None
     if workers > 1:
@@ -461,6 +466,9 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     runs, best = [], None
     for (label, _), r in zip(plan, results):
         runs.append({"start": label, **{k: v for k, v in r.items() if k != "z"}})
+        log.info("step 2, large-scale route, start %s: %s (%.1f s)", label,
+                 f"alpha {r['alpha']:.6g}, verified" if r["verified"] else r.get("reason", "not verified"),
+                 r.get("time_s") or 0.0)
         if r["verified"] and (best is None or r["alpha"] < best[0]):
             best = (r["alpha"], r["z"], label)
     out = {"N": N, "starts": runs, "time_s": time.perf_counter() - t0, "workers": workers}
