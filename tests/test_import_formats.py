@@ -178,3 +178,17 @@ def test_one_stl_of_stacked_cubes_sharing_corners(tmp_path):
     assert sorted(b.volume for b in sc.blocks) == pytest.approx([1.0, 1.0, 1.0], rel=1e-9)
     inter = find_interfaces(sc)
     assert len(inter) == 2 and inter.area == pytest.approx([1.0, 1.0], rel=1e-9)
+
+
+def test_import_progress_on_stderr_when_asked(tmp_path, capsys, monkeypatch):
+    """LIMIT_LOG_LEVEL=INFO: one line per stage of a 3D import on stderr (the two boxes: 2 solids
+    repaired, 12 planar faces, one facing pair, the written file checked), before the summary."""
+    base, top = _stack_meshes()
+    f = tmp_path / "stack.obj"
+    _write_obj(f, [base, top], ["base", "top"])
+    monkeypatch.setenv("LIMIT_LOG_LEVEL", "INFO")
+    rc, _ = _import(tmp_path, f)
+    err = capsys.readouterr().err
+    assert rc == 0
+    assert "import: 2 solids repaired" in err and "import: 12 faces" in err
+    assert "import: 1 pairs of facing faces" in err and "checking it" in err

@@ -69,6 +69,7 @@ def _units(args, files) -> tuple[str, list]:
 
 def run(args) -> int:
     import json
+    import logging
     import warnings
     from pathlib import Path
 
@@ -176,6 +177,7 @@ def run(args) -> int:
 
         try:
             t0 = time.perf_counter()
+            logging.getLogger("limit.import").info("import: %s written; checking it: loading, then its interfaces", out)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 sc = load_scene(scene)

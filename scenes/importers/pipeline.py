@@ -20,6 +20,7 @@ The tolerances, all lengths, follow from the blocks unless given (:class:`Option
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,6 +29,8 @@ from scipy.spatial import ConvexHull
 from limit.errors import SceneError
 from scenes.importers import decompose, gaps as gapsmod, planes, repair as repairmod
 from scenes.importers.readers import RawBlock
+
+log = logging.getLogger("limit.import")
 
 
 @dataclass
@@ -105,6 +108,7 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
     merge = 1e-6 * diag
     solids = [repairmod.repair(b.name, b.source, b.tags, b.vertices, b.faces, merge) for b in raw]
     times["repair_s"], t0 = time.perf_counter() - t0, time.perf_counter()
+    log.info("import: %d solids repaired (%.1f s); finding their planes", len(solids), times["repair_s"])
     fac = []
     widths = []
     for s in solids:
@@ -120,12 +124,15 @@ def build_3d(raw: list[RawBlock], opts: Options) -> Built:
             faces.append(gapsmod.Face(bi, s.vertices[np.unique(T)], s.vertices[T], F.normal[k], F.offset[k]))
             owner.append((bi, k))
     times["facets_s"], t0 = time.perf_counter() - t0, time.perf_counter()
+    log.info("import: %d faces (%.1f s); matching joints", len(faces), times["facets_s"])
     lo = np.array([s.vertices.min(axis=0) for s in solids])
     hi = np.array([s.vertices.max(axis=0) for s in solids])
     snapped = gapsmod.snap(faces, lo, hi, gap, opts.angle_deg) if gap > 0 else gapsmod.Snap([None] * len(faces), [], [])
     plane_of = {owner[k]: p for k, p in enumerate(snapped.planes) if p is not None}
     tilted = _tilted(faces, snapped)
     times["joints_s"], t0 = time.perf_counter() - t0, time.perf_counter()
+    log.info("import: %d pairs of facing faces (%.1f s); building the blocks' shapes", len(snapped.pairs),
+             times["joints_s"])
     warnings = []
     out, worst, moved = [], 0.0, 0.0
     for bi, (s, F) in enumerate(zip(solids, fac)):
