@@ -7,7 +7,11 @@
    with the LP start alone and with each restart strategy added.
 3. scipy's trust-constr (sparse, with the exact Hessian of the complementarity) on
    the same formulation, for comparison with the successive LP.
-Writes bench/out/nlp.csv, nlp_strategies.csv, nlp.png and nlp_summary.md.
+4. Domes of rings of voussoirs (scenes.generators.dome, 24 sliding faces): which stage of
+   step 2's plan verifies first (the LP's point and its restarts, the LP's simplex vertex, the
+   coarser friction polygon), and the runs that verify.
+Writes bench/out/nlp.csv, nlp_strategies.csv, nlp_solvers.csv, nlp_domes.csv, nlp.png and
+nlp_summary.md.
 """
 from __future__ import annotations
 
@@ -27,6 +31,7 @@ from limit.model.assemble import assemble
 from limit.solve.nlp_problem import build
 from limit.model.scene import load_scene
 from scenes import builders as B
+from scenes import generators as G
 
 from .common import machine, out_dir
 
@@ -34,6 +39,8 @@ SIZES = (10, 30, 60, 100, 300, 1000)
 MILP_MAX_BLOCKS = 20
 SMALL_WALLS = [(3, 3, 0.4, 0.4), (3, 3, 0.2, 0.4), (3, 2, 0.4, 0.3), (2, 2, 0.4, 0.4)]
 MUS = (0.6, 0.9, 1.2)
+#: (meridians, rings) of the domes of :func:`domes_part`
+DOMES = ((8, 2), (12, 2), (12, 3), (16, 3), (16, 4))
 
 
 def wall(n, mu=0.9):
@@ -116,6 +123,30 @@ def strategies_part():
     return pd.DataFrame(rows)
 
 
+def _stage(start: str) -> str:
+    """The stage of step2.run's plan that a run's start label belongs to."""
+    return "vertex" if start == "lp-vertex" else "coarse" if start.startswith("coarse") else "plan"
+
+
+def domes_part():
+    rows = []
+    for m, k in DOMES:
+        P = assemble(load_scene(G.dome(meridians=m, rings=k)))
+        sol, _, _ = solve_lp(P)
+        t0 = time.perf_counter()
+        out = step2.run(P, sol)  # with the default budget, as limit solve runs it
+        t = time.perf_counter() - t0
+        runs = [r for r in out["runs"] if "not_run" not in r]
+        ok = [r for r in runs if r.get("verified")]
+        rows.append({"dome": f"{m} x {k}", "blocks": P.scene.n_blocks, "unknowns": out["N"].n, "lp_solver": sol.solver,
+                     "alpha_lp": sol.alpha, "alpha": out["alpha"] if out["ok"] else None, "verified": out["ok"],
+                     "stage": _stage(out["start"]) if out["ok"] else "", "runs": len(runs), "runs_verified": len(ok),
+                     "stages_run": ", ".join(dict.fromkeys(_stage(r.get("start", "")) for r in runs)), "time_s": t})
+        print(f"dome {m}x{k}: lp {sol.alpha:.5f} step 2 {rows[-1]['alpha']} from {rows[-1]['stage']} "
+              f"({len(ok)}/{len(runs)} runs verified, {t:.1f} s)", flush=True)
+    return pd.DataFrame(rows)
+
+
 def trust_constr_part():
     rows = []
     for n in (10, 30):
@@ -147,8 +178,10 @@ def main():
     st.to_csv(out / "nlp_strategies.csv", index=False)
     tc = trust_constr_part()
     tc.to_csv(out / "nlp_solvers.csv", index=False)
+    dm = domes_part()
+    dm.to_csv(out / "nlp_domes.csv", index=False)
     plot(df, out / "nlp.png")
-    summary(df, st, tc, out / "nlp_summary.md")
+    summary(df, st, tc, dm, out / "nlp_summary.md")
 
 
 def plot(df, path):
@@ -179,7 +212,7 @@ def plot(df, path):
     plt.close(fig)
 
 
-def summary(df, st, tc, path):
+def summary(df, st, tc, dm, path):
     m = machine()
     lines = [f"# NLP benchmark ({m['cpus']} CPUs, Python {m['python']})", "",
              "| blocks | interfaces | unknowns | alpha LP | alpha NLP | NLP status | LP s | NLP s | runs ok | "
@@ -199,6 +232,13 @@ def summary(df, st, tc, path):
     for _, r in tc.iterrows():
         lines.append(f"| {r.n_blocks} | {r.n_unknowns} | {r.solver} | {r.alpha:.5f} | {r.verified_unpolished} | "
                      f"{r.time_s:.2f} |")
+    lines += ["", "## Domes: the stage of step 2's plan that verifies first", "",
+              "| dome (meridians x rings) | blocks | unknowns | alpha LP | alpha step 2 | from | runs ok | stages run | s |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for _, r in dm.iterrows():
+        a = "not verified" if r.alpha is None or r.alpha != r.alpha else f"{r.alpha:.6f}"
+        lines.append(f"| {r.dome} | {r.blocks} | {r.unknowns} | {r.alpha_lp:.6f} | {a} | {r.stage} | "
+                     f"{r.runs_verified}/{r.runs} | {r.stages_run} | {r.time_s:.1f} |")
     path.write_text("\n".join(lines) + "\n")
 
 
