@@ -7,6 +7,7 @@ stderr, no traceback), 1 any other failure, 130 interrupted.
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 
@@ -509,22 +510,20 @@ def _one_line_warnings() -> None:
     warnings.showwarning = lambda msg, cat, *a, **k: print(f"warning: {msg}", file=sys.stderr)
 
 
+class _Stderr(logging.StreamHandler):
+    """A handler that writes to the sys.stderr of the moment (callers and tests swap it)."""
+
+    stream = property(lambda self: sys.stderr, lambda self, value: None)
+
+
 def _progress_log() -> None:
     """Progress of long solves (the ``limit`` loggers' INFO records) as lines on stderr where it
     is a terminal; the environment variable LIMIT_LOG_LEVEL (INFO, WARNING, ...) sets the level
     anywhere. Python callers configure the ``limit`` logger as usual."""
-    import logging
-    import os
-
-    class Stderr(logging.StreamHandler):
-        """A handler that writes to the sys.stderr of the moment (callers and tests swap it)."""
-
-        stream = property(lambda self: sys.stderr, lambda self, value: None)
-
     level = os.environ.get("LIMIT_LOG_LEVEL") or ("INFO" if sys.stderr.isatty() else "WARNING")
     logger = logging.getLogger("limit")
-    if not any(type(h).__name__ == "Stderr" for h in logger.handlers):
-        handler = Stderr()
+    if not any(isinstance(h, _Stderr) for h in logger.handlers):
+        handler = _Stderr()
         handler.setFormatter(logging.Formatter("%(message)s"))
         logger.addHandler(handler)
     try:
@@ -536,4 +535,9 @@ def _progress_log() -> None:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     _one_line_warnings()
-    return run_command(lambda: (_progress_log(), COMMANDS[args.command](args))[1], debug_env="LIMIT_DEBUG")
+
+    def command() -> int:
+        _progress_log()  # inside run_command: a bad LIMIT_LOG_LEVEL is a rejection (exit 2)
+        return COMMANDS[args.command](args)
+
+    return run_command(command, debug_env="LIMIT_DEBUG")

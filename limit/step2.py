@@ -86,17 +86,12 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
         lo[N.ia] = 0.0
         lp = lpsub.HighsLP(N.Aeq, N.beq, N.Yx, N.kh, lo, hi)
     runs, best = [], None
-    fallbacks = []  # run in turn, each once, while no point has verified
-    if "vertex" in strategies and start == "lp":
-        def vertex():
-            """from the LP's simplex vertex"""
-            return _vertex_plan(P, N, lp_sol, backend, runs)
-        fallbacks.append(vertex)
+    fallbacks = []  # (what, plan maker): run in turn, each once, while no point has verified
+    if "vertex" in strategies and start == "lp" and lp_sol.solver not in nlp_starts.VERTEX_SOLVERS:
+        fallbacks.append(("from the LP's simplex vertex", lambda: _vertex_plan(P, N, lp_sol, backend, runs)))
     if "coarse" in strategies and nlp_starts.coarse_slide_faces(P) is not None:
-        def coarse():
-            """from the coarser friction polygon"""
-            return _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs)
-        fallbacks.append(coarse)
+        fallbacks.append(("from the coarser friction polygon",
+                          lambda: _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs)))
     k = -1
     while True:
         k += 1
@@ -104,8 +99,9 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
                 and (hard is None or time.perf_counter() < hard):
             if lp is not None:
                 lp.cold()  # a fallback's first run starts from a cold basis, not the last failed run's
-            log.info("step 2: none of %d runs verified; %s", k, fallbacks[0].__doc__)
-            plan += fallbacks.pop(0)()
+            what, make = fallbacks.pop(0)
+            log.info("step 2: none of %d runs verified; %s", k, what)
+            plan += make()
         if k >= len(plan):
             break
         lab, zs, name, rho0, jitter = plan[k]
@@ -141,12 +137,11 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
 def _vertex_plan(P, N, lp_sol, backend, runs) -> list:
     """The SLA runs (initial penalties 1, 0.1, 0.01) from the LP's simplex vertex
     (:func:`limit.solve.nlp_starts.vertex_start`), for :func:`run` when its own plan verified no
-    point; an entry in ``runs`` says why there are none."""
+    point and its LP is an interior point; an entry in ``runs`` says why there are none."""
     z0 = nlp_starts.vertex_start(P, N, lp_sol, backend)
     if z0 is None:
-        if lp_sol.solver not in nlp_starts.VERTEX_SOLVERS:
-            runs.append({"start": "lp-vertex", "solver": "sla", "verified": False,
-                         "reason": "no simplex vertex of the LP with a non-associative mechanism"})
+        runs.append({"start": "lp-vertex", "solver": "sla", "verified": False,
+                     "reason": "no simplex vertex of the LP with a non-associative mechanism"})
         return []
     return [("lp-vertex", z0, "sla", r, None) for r in (1.0, 0.1, 0.01)]
 

@@ -84,7 +84,7 @@ def vertex_start(P, N: NLPProblem, lp_sol, backend: str) -> np.ndarray | None:
     face, where every joint that can flow carries a share of the mechanism; the simplex ends at
     a vertex, with a mechanism on few joints. The two lead the successive LP to different local
     solutions: on the 8-face model of a dome of 3 rings of 12 voussoirs and a cap, the 12 runs
-    from Clarabel's point end at points that are not complementary (residuals 9e-4 to 1e-2),
+    from Clarabel's point end at points that are not complementary (residuals 1.8e-3 to 1.4e-2),
     and the first run from the vertex verifies (docs/performance.md).
     """
     from limit.solve.checked_lp import solve_lp

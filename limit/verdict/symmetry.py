@@ -16,6 +16,7 @@ import numpy as np
 
 from limit.model.reversal_mirror import TOL, reflect, same_shape
 
+
 def mirror_plane(scene) -> tuple[np.ndarray, np.ndarray]:
     """(point c (3,), unit normal n (3,)) of the mirror plane of a 3D scene."""
     from limit.verdict.kinematic_check import horizontal_direction

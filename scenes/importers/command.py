@@ -69,7 +69,6 @@ def _units(args, files) -> tuple[str, list]:
 
 def run(args) -> int:
     import json
-    import logging
     import warnings
     from pathlib import Path
 
@@ -177,7 +176,7 @@ def run(args) -> int:
 
         try:
             t0 = time.perf_counter()
-            logging.getLogger("limit.import").info("import: %s written; checking it: loading, then its interfaces", out)
+            pipeline.log.info("import: %s written; checking it: loading, then its interfaces", out)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 sc = load_scene(scene)
