@@ -10,8 +10,12 @@
 4. Domes of rings of voussoirs (scenes.generators.dome, 24 sliding faces): which stage of
    step 2's plan verifies first (the LP's point and its restarts, the LP's simplex vertex, the
    coarser friction polygon), and the runs that verify.
-Writes bench/out/nlp.csv, nlp_strategies.csv, nlp_solvers.csv, nlp_domes.csv, nlp.png and
-nlp_summary.md.
+5. The global MILP's bound tightening (limit.solve.milp._bounds, one warm-started HiGHS model per
+   family of per-face LPs) side by side with the same LPs solved one by one
+   (tests/test_nlp.py::cold_bounds) on small catalog scenes: the times, their ratio, and the
+   largest difference of a bound.
+Writes bench/out/nlp.csv, nlp_strategies.csv, nlp_solvers.csv, nlp_domes.csv, nlp_milp.csv,
+nlp.png and nlp_summary.md.
 """
 from __future__ import annotations
 
@@ -41,6 +45,9 @@ SMALL_WALLS = [(3, 3, 0.4, 0.4), (3, 3, 0.2, 0.4), (3, 2, 0.4, 0.3), (2, 2, 0.4,
 MUS = (0.6, 0.9, 1.2)
 #: (meridians, rings) of the domes of :func:`domes_part`
 DOMES = ((8, 2), (12, 2), (12, 3), (16, 3), (16, 4))
+#: catalog scenes of :func:`milp_part`
+MILP_SCENES = ("portal-3d", "wall-3x3-opening-2d", "wall-3x3-3d", "paper-fig3-opus-poligonale-25-2d",
+               "wall-out-of-plane-3d")
 
 
 def wall(n, mu=0.9):
@@ -147,6 +154,31 @@ def domes_part():
     return pd.DataFrame(rows)
 
 
+def milp_part():
+    from pathlib import Path
+
+    from tests.test_nlp import cold_bounds
+
+    rows = []
+    for name in MILP_SCENES:
+        P = assemble(load_scene(Path(__file__).parents[1] / "scenes" / "catalog" / f"{name}.json"))
+        sol, _, _ = solve_lp(P)
+        N = build(P)
+        ub = sol.alpha * (1 + 1e-9)
+        t0 = time.perf_counter()
+        S, L = milp._bounds(N, P, ub, float("inf"))
+        t_warm = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        S0, L0 = cold_bounds(N, P, ub)
+        t_cold = time.perf_counter() - t0
+        diff = max(float(np.max(np.abs(np.where(np.isfinite(a0), a - a0, 0.0)), initial=0.0)) for a, a0 in ((S, S0), (L, L0)))
+        rows.append({"scene": name, "faces": P.model.n_faces, "warm_s": t_warm, "cold_s": t_cold,
+                     "ratio": t_cold / t_warm, "max_diff": diff})
+        print(f"milp bounds {name}: {t_warm:.2f} s against {t_cold:.2f} s one by one ({t_cold / t_warm:.1f}x), "
+              f"largest difference {diff:.1e}", flush=True)
+    return pd.DataFrame(rows)
+
+
 def trust_constr_part():
     rows = []
     for n in (10, 30):
@@ -180,8 +212,10 @@ def main():
     tc.to_csv(out / "nlp_solvers.csv", index=False)
     dm = domes_part()
     dm.to_csv(out / "nlp_domes.csv", index=False)
+    mp = milp_part()
+    mp.to_csv(out / "nlp_milp.csv", index=False)
     plot(df, out / "nlp.png")
-    summary(df, st, tc, dm, out / "nlp_summary.md")
+    summary(df, st, tc, dm, mp, out / "nlp_summary.md")
 
 
 def plot(df, path):
@@ -212,7 +246,7 @@ def plot(df, path):
     plt.close(fig)
 
 
-def summary(df, st, tc, dm, path):
+def summary(df, st, tc, dm, mp, path):
     m = machine()
     lines = [f"# NLP benchmark ({m['cpus']} CPUs, Python {m['python']})", "",
              "| blocks | interfaces | unknowns | alpha LP | alpha NLP | NLP status | LP s | NLP s | runs ok | "
@@ -239,6 +273,10 @@ def summary(df, st, tc, dm, path):
         a = "not verified" if r.alpha is None or r.alpha != r.alpha else f"{r.alpha:.6f}"
         lines.append(f"| {r.dome} | {r.blocks} | {r.unknowns} | {r.alpha_lp:.6f} | {a} | {r.stage} | "
                      f"{r.runs_verified}/{r.runs} | {r.stages_run} | {r.time_s:.1f} |")
+    lines += ["", "## The global MILP's bound tightening: one warm-started model against LPs one by one", "",
+              "| scene | faces | warm s | one by one s | ratio | largest difference |", "| --- | --- | --- | --- | --- | --- |"]
+    for _, r in mp.iterrows():
+        lines.append(f"| {r.scene} | {r.faces} | {r.warm_s:.2f} | {r.cold_s:.2f} | {r.ratio:.1f} | {r.max_diff:.1e} |")
     path.write_text("\n".join(lines) + "\n")
 
 

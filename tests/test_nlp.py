@@ -266,3 +266,47 @@ def test_sla_direction_cost_never_negative_on_a_multiplier():
     ok = N.slack(z) >= 0
     np.testing.assert_array_equal(clipped[N.sl][ok], exact[N.sl][ok])
     np.testing.assert_allclose(clipped[N.sx], exact[N.sx])
+
+
+
+def cold_bounds(N, P, alpha_ub):
+    """The MILP's per-face bounds by a second method: every LP solved on its own by
+    scipy.optimize.linprog (lpsub.solve), with no basis carried from one to the next."""
+    import scipy.sparse as sp
+    from limit.solve import lpsub
+
+    nf, ndof = P.model.n_faces, P.n_dof
+    lo, hi = N.bounds()
+    lo[N.ia], hi[N.ia] = 0.0, alpha_ub
+    S, L = np.full(nf, np.inf), np.full(nf, np.inf)
+    for j in range(nf):
+        r = lpsub.solve(N.Yx[j].toarray().ravel(), N.Aeq[:ndof], N.beq[:ndof], N.Yx, N.kh, lo, hi)
+        if r.ok:
+            S[j] = max(N.kh[j] - r.fun, 0.0)
+    work = sp.hstack([sp.csr_matrix((1, 1 + P.model.n_x)), sp.csr_matrix(-P.f0h.reshape(1, -1)),
+                      sp.csr_matrix((1, nf))]).tocsr()
+    for j in range(nf):
+        c = np.zeros(N.n)
+        c[N.sl.start + j] = -1.0
+        r = lpsub.solve(c, N.Aeq[ndof:], N.beq[ndof:], work, np.array([alpha_ub]), lo, hi)
+        if r.ok:
+            L[j] = max(-r.fun, 0.0)
+    return S, L
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_milp_bounds_equal_those_of_independent_lps(dim):
+    """milp._bounds solves its per-face LPs in one warm-started HiGHS model per family; each
+    optimum value is unique, so it must equal the LP solved on its own (cold_bounds), face by
+    face, finite and infinite alike. The wall's faces include unbounded multipliers (joints free
+    to slide at zero normal force)."""
+    P, sol = setup(B.running_bond_wall(3, 3, dim=dim, L=0.4, H=0.4, mu=0.6))
+    N = build(P)
+    ub = sol.alpha * (1 + 1e-9)
+    S, L = milp._bounds(N, P, ub, deadline=float("inf"))
+    S0, L0 = cold_bounds(N, P, ub)
+    for got, ref in ((S, S0), (L, L0)):
+        assert np.array_equal(np.isfinite(got), np.isfinite(ref))
+        f = np.isfinite(ref)
+        assert f.sum() > 0
+        np.testing.assert_allclose(got[f], ref[f], rtol=1e-7, atol=1e-9)

@@ -35,29 +35,31 @@ from limit.solve.status import GlobalStatus
 
 
 def _bounds(N, P, alpha_ub, deadline):
-    """Per-face slack bounds S and multiplier bounds L (inf where unbounded)."""
+    """Per-face slack bounds S and multiplier bounds L (inf where unbounded): one LP per face and
+    bound, each family sharing its constraints in one HiGHS model that starts from the last
+    solve's basis (:class:`limit.solve.lpsub.HighsLP`)."""
     nf = P.model.n_faces
     lo, hi = N.bounds()
     lo[N.ia], hi[N.ia] = 0.0, alpha_ub
     ndof = P.n_dof
     S = np.full(nf, np.inf)
     L = np.full(nf, np.inf)
-    A_s, b_s = N.Aeq[:ndof], N.beq[:ndof]
+    statics = lpsub.HighsLP(N.Aeq[:ndof], N.beq[:ndof], N.Yx, N.kh, lo, hi)
     for j in range(nf):  # s_j = kh_j - Yx_j z at its largest: Yx_j z at its least
         if time.perf_counter() > deadline:
             raise TimeoutError
-        r = lpsub.solve(N.Yx[j].toarray().ravel(), A_s, b_s, N.Yx, N.kh, lo, hi)
+        r = statics.solve(N.Yx[j].toarray().ravel())
         if r.ok:
             S[j] = max(N.kh[j] - r.fun, 0.0)
     work = sp.hstack([sp.csr_matrix((1, 1 + P.model.n_x)), sp.csr_matrix(-P.f0h.reshape(1, -1)),
                       sp.csr_matrix((1, nf))]).tocsr()
-    A_k, b_k = N.Aeq[ndof:], N.beq[ndof:]
+    kinematics = lpsub.HighsLP(N.Aeq[ndof:], N.beq[ndof:], work, np.array([alpha_ub]), lo, hi)
     for j in range(nf):
         if time.perf_counter() > deadline:
             raise TimeoutError
         c = np.zeros(N.n)
         c[N.sl.start + j] = -1.0
-        r = lpsub.solve(c, A_k, b_k, work, np.array([alpha_ub]), lo, hi)
+        r = kinematics.solve(c)
         if r.ok:
             L[j] = max(-r.fun, 0.0)
     return S, L
