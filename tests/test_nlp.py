@@ -268,7 +268,6 @@ def test_sla_direction_cost_never_negative_on_a_multiplier():
     np.testing.assert_allclose(clipped[N.sx], exact[N.sx])
 
 
-
 def cold_bounds(N, P, alpha_ub):
     """The MILP's per-face bounds by a second method: every LP solved on its own by
     scipy.optimize.linprog (lpsub.solve), with no basis carried from one to the next."""
