@@ -429,7 +429,7 @@ def test_progress_is_reported_by_step_count_never_by_the_clock(monkeypatch):
     """The YADE side's progress lines come every ``period`` steps of a search (and again from the
     start of the next one), whatever the wall clock says: each line allocates Python objects, and
     with lines on a timer the heap, and through it the run, differed between two runs of one job
-    (the 70-stone Fig. 3 wall, 2026-11-27: 0.4917 from the command line, 0.5034 in the validation)."""
+    (on the 70-stone Fig. 3 wall: 0.4917 from the command line, 0.5034 in the validation)."""
     import time
 
     sent = []
