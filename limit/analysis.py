@@ -70,17 +70,17 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         part = step2.step2(P, sol, method=method, **(nlp_options or {}))
         log.info("%s: step 2 %s, alpha %s", scene.name, part.get("status"),
                  "-" if part.get("alpha") is None else f"{part['alpha']:.6g}")
-        deg = settings.of(P).direction_starts_deg
-        if deg > 0 and sol.status == Status.OPTIMAL and _turnable(scene) and \
-                len(scene.free) < settings.of(P).large_min_free:
+        st = settings.of(P)
+        # the nearby starts below: small scenes with an LP optimum only
+        nearby = sol.status == Status.OPTIMAL and len(scene.free) < st.large_min_free
+        if nearby and st.direction_starts_deg > 0 and _turnable(scene):
+            deg = st.direction_starts_deg
             log.info("%s: step 2 with the live load turned by +-%g deg", scene.name, deg)
             part = _from_turned_directions(scene, P, sol, part, deg, options, nlp_options)
-        if settings.of(P).friction_starts and sol.status == Status.OPTIMAL and \
-                len(scene.free) < settings.of(P).large_min_free and not needs_nlp(P, sol)[0]:
+        if nearby and st.friction_starts and not needs_nlp(P, sol)[0]:
             log.info("%s: step 2 at reduced friction", scene.name)
             part = _from_reduced_friction(P, sol, part, options, nlp_options)
-        if settings.of(P).mirror_starts and sol.status == Status.OPTIMAL and _turnable(scene) and \
-                len(scene.free) < settings.of(P).large_min_free:
+        if nearby and st.mirror_starts and _turnable(scene):
             log.info("%s: step 2 under the reversed live load, mirrored", scene.name)
             part = _from_mirror(scene, P, sol, part, options, nlp_options)
         out["nlp"] = part
