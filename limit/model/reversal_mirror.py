@@ -80,11 +80,13 @@ def _images(scene, c: np.ndarray, n: np.ndarray, tol: float) -> np.ndarray | Non
     cen = np.array([b.centroid for b in blocks], dtype=float)
     vol = np.array([b.volume for b in blocks], dtype=float)
     key = [(b.fixed, b.density) for b in blocks]
+    from scipy.spatial import cKDTree
+
     img = reflect(cen, c, n)
     out = np.full(len(blocks), -1)
-    for i in range(len(blocks)):
-        near = np.flatnonzero((np.linalg.norm(cen - img[i], axis=1) <= tol) & (np.abs(vol - vol[i]) <= TOL * vol[i]))
-        match = next((int(j) for j in near if key[j] == key[i] and same_shape(blocks, i, int(j), c, n, tol)), None)
+    for i, near in enumerate(cKDTree(cen).query_ball_point(img, tol)):  # the centroids within tol of each image
+        match = next((int(j) for j in sorted(near) if abs(vol[j] - vol[i]) <= TOL * vol[i] and key[j] == key[i]
+                      and same_shape(blocks, i, int(j), c, n, tol)), None)
         if match is None:
             return None
         out[i] = match
