@@ -235,8 +235,8 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
             part, _ = adopt_dem_state(P, lp_sol, part, dem_state)
         return _settled(P, part, t0)
     small = not large  # the successive LP's route (an arbitrary start is run below only there)
-    if large:
-        out = _large(P, lp_sol, time_budget)
+    if large:  # without a verified point the route goes on, as the successive LP does (run)
+        out = _large(P, lp_sol, time_budget, None if time_budget is None else st.hard_factor * time_budget)
     else:  # the large route first: with its point verified, the successive LP keeps to the budget
         alt = _large(P, lp_sol, time_budget) if solver == "auto" and st.also_iterative else None
         out = run(P, lp_sol, solver=solver, start="lp", backend=backend, time_budget=time_budget,
@@ -332,9 +332,10 @@ def lower(candidate: float | None, current: float | None, by: float = settings.D
     return current is None or candidate < current - by * abs(current)
 
 
-def _large(P, lp_sol, time_budget) -> dict:
-    """The large-scale route's outcome in :func:`run`'s layout."""
-    out = step2_large.solve(P, lp_sol, time_budget=time_budget)
+def _large(P, lp_sol, time_budget, hard_budget=None) -> dict:
+    """The large-scale route's outcome in :func:`run`'s layout (``hard_budget``: see
+    :func:`limit.solve.step2_large.solve`)."""
+    out = step2_large.solve(P, lp_sol, time_budget=time_budget, hard_budget=hard_budget)
     runs = [dict(r, solver="iterative-lp") for r in out.get("starts", [])]
     return {**out, "solver": "iterative-lp", "runs": runs, "alpha_raw": out.get("alpha"),
             "notes": [f"iterative LP (ipm) from {len(runs)} start(s), snapped by the piece LP"],

@@ -392,3 +392,27 @@ def test_a_wall_whose_statics_stay_degenerate_verifies_by_the_least_slack_snap()
     ok, res, why = nlp.check(out["N"], out["z"], sol.alpha)
     assert ok, why
     assert out["alpha"] < sol.alpha * (1 - 1e-3)
+
+
+def test_without_a_verified_point_the_large_route_goes_on_to_the_hard_budget(monkeypatch):
+    """The large route keeps the successive LP's budget rule (limit.step2.run): with the budget
+    spent before any start could run (1 microsecond) and hard_factor budgets still ahead, the
+    starts run and one verifies, where a route stopped at the budget would return no point."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    _set(monkeypatch, P, large_min_free=1, nlp_time_budget=1e-6, hard_factor=1e9)
+    part = step2.step2(P, sol, method="nlp")
+    assert part["route"] == "iterative-lp"
+    assert part["status"] == "optimal" and part["alpha"] <= sol.alpha * (1 + 1e-9)
+    assert max(part["verification"].values()) < 1e-6
+
+
+def test_a_start_that_verifies_after_the_budget_stops_the_others():
+    """Past the budget (soft end) the first verified start ends the route: run one after
+    another (workers=1), the starts after it are listed as not run; within the budget every
+    start runs, for a lower point."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    late = step2_large.solve(P, sol, time_budget=1e-6, hard_budget=600.0, workers=1)
+    assert late["ok"] and late["starts"][0]["verified"]
+    assert len(late["starts"]) == 3 and all(r.get("not_run") for r in late["starts"][1:])
+    early = step2_large.solve(P, sol, time_budget=600.0, hard_budget=600.0, workers=1)
+    assert early["ok"] and all(r["iterations"] > 0 for r in early["starts"])

@@ -359,18 +359,22 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
 class _Stop:
     """The time (time.perf_counter(), shared by the starts' processes) at which every start stops:
     infinite until a start verifies at t, then t0 + (t - t0) (1 + GRACE) with t0 the route's start
-    (:data:`GRACE`). ``value``: a multiprocessing.Value("d") for starts in worker processes (created
+    (:data:`GRACE`), or, given ``soft`` (the end of the route's budget), the later of ``soft`` and
+    t: the others go on to the budget's end for a lower point, and no further once one has
+    verified. ``value``: a multiprocessing.Value("d") for starts in worker processes (created
     before they fork), else a plain holder."""
 
-    def __init__(self, t0: float, value=None):
+    def __init__(self, t0: float, value=None, soft: float | None = None):
         self.t0 = t0
+        self.soft = soft
         self.value = value if value is not None else type("Holder", (), {"value": np.inf})()
 
     def at(self) -> float:
         return float(self.value.value)
 
     def verified(self, t: float) -> None:
-        self.value.value = min(self.at(), self.t0 + (t - self.t0) * (1.0 + GRACE))
+        end = self.t0 + (t - self.t0) * (1.0 + GRACE) if self.soft is None else max(self.soft, t)
+        self.value.value = min(self.at(), end)
 
 
 def _not_run(why: str) -> dict:
@@ -406,16 +410,17 @@ def _init_worker(stop) -> None:
     _SHARED_STOP = stop
 
 
-def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None) -> list | None:
+def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=None) -> list | None:
     """Every start at once in ``workers`` processes; None when processes cannot be started
     here (e.g. inside a daemonic worker): the caller then runs them one after another. ``t0``
-    (None: the starts do not stop each other): the route's start, for the shared :class:`_Stop`."""
+    (None: the starts do not stop each other): the route's start, for the shared :class:`_Stop`
+    (with ``soft``, its soft end)."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
 
     ctx = mp.get_context("fork")
     try:
-        stop = None if t0 is None else _Stop(t0, ctx.Value("d", np.inf))
+        stop = None if t0 is None else _Stop(t0, ctx.Value("d", np.inf), soft)
         with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                  initargs=(stop,)) as ex:
             return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None, None) for _, s in plan]))
@@ -423,15 +428,22 @@ def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None) -> lis
         return None
 
 
-def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: int | None = None) -> dict:
+def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: int | None = None,
+          hard_budget: float | None = None) -> dict:
     """The large-scale route of step 2: every start run (until the budget is spent), the
     lowest verified alpha kept. ``workers``: processes for the starts (default: one per core,
-    at most one per start; 1 runs them one after another). Returns {"ok", "alpha", "z", "N",
-    "starts": [per start], "residuals", "reason", "time_s", "workers"}."""
+    at most one per start; 1 runs them one after another). ``hard_budget`` (s, above
+    ``time_budget``; None: the same): while no start has verified, the starts go on past
+    ``time_budget`` up to it, and once one verifies after ``time_budget`` the others stop (the
+    successive LP's rule, :func:`limit.step2.run`). Returns {"ok", "alpha", "z", "N", "starts":
+    [per start], "residuals", "reason", "time_s", "workers"}."""
     import os
 
     t0 = time.perf_counter()
-    deadline = None if time_budget is None else t0 + time_budget
+    soft = None if time_budget is None else t0 + time_budget
+    hard_budget = time_budget if hard_budget is None or time_budget is None else max(hard_budget, time_budget)
+    deadline = None if hard_budget is None else t0 + hard_budget
+    soft = soft if deadline is not None and soft is not None and soft < deadline else None
     N = build(P)
     optimal = lp_sol is not None and lp_sol.status == Status.OPTIMAL
     alpha_ref = lp_sol.alpha if optimal else np.inf
@@ -452,14 +464,17 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     log.info("step 2, large-scale route: %d start(s) (%s) on %d process(es)", len(plan),
              ", ".join(label for label, _ in plan), workers)
     grace = _very_large(P)  # the starts stop GRACE after the first verified one (2D, very large)
+    shared = grace or soft is not None  # the starts stop each other
+    soft = None if grace else soft
     results = None
     if workers > 1:
-        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0 if grace else None)
+        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0 if shared else None, soft)
     if results is None:
         workers, results = 1, []
-        stop = _Stop(t0) if grace else None
+        stop = _Stop(t0, soft=soft) if shared else None
         for label, start in plan:
-            if deadline is not None and any(r["verified"] for r in results) and time.perf_counter() > deadline:
+            if deadline is not None and any(r["verified"] for r in results) and \
+                    time.perf_counter() > (deadline if soft is None else soft):
                 results.append(_not_run("time budget spent"))
                 continue
             results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N, stop)))
