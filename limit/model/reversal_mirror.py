@@ -22,6 +22,7 @@ from collections import defaultdict
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from limit.model.loads import horizontal_direction
 
@@ -80,8 +81,6 @@ def _images(scene, c: np.ndarray, n: np.ndarray, tol: float) -> np.ndarray | Non
     cen = np.array([b.centroid for b in blocks], dtype=float)
     vol = np.array([b.volume for b in blocks], dtype=float)
     key = [(b.fixed, b.density) for b in blocks]
-    from scipy.spatial import cKDTree
-
     img = reflect(cen, c, n)
     out = np.full(len(blocks), -1)
     for i, near in enumerate(cKDTree(cen).query_ball_point(img, tol)):  # the centroids within tol of each image

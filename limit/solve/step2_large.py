@@ -440,10 +440,9 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     import os
 
     t0 = time.perf_counter()
-    soft = None if time_budget is None else t0 + time_budget
-    hard_budget = time_budget if hard_budget is None or time_budget is None else max(hard_budget, time_budget)
-    deadline = None if hard_budget is None else t0 + hard_budget
-    soft = soft if deadline is not None and soft is not None and soft < deadline else None
+    soft = None if time_budget is None else t0 + time_budget  # the budget's end
+    deadline = soft if hard_budget is None or soft is None else t0 + max(hard_budget, time_budget)
+    soft = soft if soft is not None and soft < deadline else None  # None: no soft end before the deadline
     N = build(P)
     optimal = lp_sol is not None and lp_sol.status == Status.OPTIMAL
     alpha_ref = lp_sol.alpha if optimal else np.inf
