@@ -108,14 +108,11 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
     0.3608 from its own starts, 0.2195 from the +5 degree state). Each state is tried as a dynamic
     run's is (:func:`limit.step2.adopt_dem_state`) and adopted where it verifies lower; the part
     records them under ``direction_starts``."""
-    import dataclasses
-
     from limit.model.scene import load_scene
     from limit.model.turned_load import turned
 
-    sub_settings = settings.of(P).replace(direction_starts_deg=0, friction_starts=False)
-    sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
-    sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k != "dem_state"}
+    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state",), direction_starts_deg=0,
+                                         friction_starts=False)
     t0 = time.perf_counter()
 
     def states():
@@ -149,9 +146,8 @@ def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
 
     from limit.solve.nlp_starts import FRICTION_FACTORS
 
-    sub_settings = settings.of(P).replace(friction_starts=False, direction_starts_deg=0)
-    sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
-    sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k not in ("dem_state", "global_check", "iterative")}
+    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state", "global_check", "iterative"),
+                                         friction_starts=False, direction_starts_deg=0)
     t0 = time.perf_counter()
 
     def states():
@@ -176,8 +172,6 @@ def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
     0.5 at 90 deg, 6/13 at 270 deg); reflected, that state is one of the scene's at the same alpha.
     It is tried as a dynamic run's is (:func:`limit.step2.adopt_dem_state`) and adopted where it
     verifies lower; the part records it under ``mirror_starts``."""
-    import dataclasses
-
     from limit.model import reversal_mirror
     from limit.model.scene import load_scene
     from limit.model.turned_load import turned
@@ -185,9 +179,8 @@ def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
     mirror = reversal_mirror.find(scene, P.I)
     if mirror is None:
         return part
-    sub_settings = settings.of(P).replace(mirror_starts=False, direction_starts_deg=0)
-    sub_options = dataclasses.replace(options or Options(), settings=sub_settings)
-    sub_nlp = {k: v for k, v in (nlp_options or {}).items() if k not in ("dem_state", "global_check", "iterative")}
+    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state", "global_check", "iterative"),
+                                         mirror_starts=False, direction_starts_deg=0)
     t0 = time.perf_counter()
 
     def states():
@@ -203,6 +196,15 @@ def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
         yield {"load": "reversed"}, nlp, "", "mirrored reversed-load"
 
     return _adopt_states(P, sol, part, states(), "mirror_starts", t0)
+
+
+def _sub_analysis(P, options, nlp_options, drop: tuple, **off) -> tuple:
+    """(options, nlp_options) of a nearby start's own analysis: P's settings with ``off`` changed
+    (the nearby starts that must not recurse), and the step-2 keywords without ``drop``."""
+    import dataclasses
+
+    sub_options = dataclasses.replace(options or Options(), settings=settings.of(P).replace(**off))
+    return sub_options, {k: v for k, v in (nlp_options or {}).items() if k not in drop}
 
 
 def _adopt_states(P, sol, part: dict, states, key: str, t0: float) -> dict:
