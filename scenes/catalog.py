@@ -174,6 +174,8 @@ def entries(references: dict | None = None) -> dict:
     for d in paper_entries() + benchmark_entries(references):
         add(d)
     add(generated_arch_entry(references))
+    for d in generator_entries():
+        add(d)
     for d in feature_entries():
         add(d)
     add(thick_wall_entry())
@@ -420,6 +422,48 @@ def generated_arch_entry(references: dict | None = None) -> dict:
     d["meta"]["notes"] = ("Built by scenes.generators.arch. The mechanism takes the piers with it: hinges at a "
                           "pier's base, in the ring and at the other pier's base.")
     return d
+
+
+def generator_entries() -> list:
+    """One scene from each generator of scenes.generators besides the arch (:func:`generated_arch_entry`):
+    a 2D Flemish-bond wall with a lintel and a flat arch, a corner, a T-junction, a buttressed wall
+    loaded across, a barrel vault, a cross vault and a dome, each as ``limit build`` makes it with the
+    parameters given here. They carry no closed form (the generators' own tests check volumes,
+    interface counts and the closed forms that exist): the dynamic check is their reference."""
+    from .generators import barrel_vault, buttressed_wall, cross_vault, dome, wall, wall_corner, wall_tee
+
+    made = [
+        (wall(length=3.2, height=1.8, bond="flemish", dim=2, unit=(0.4, 0.2, 0.2), mu=0.7,
+              openings=[{"x": 0.6, "width": 0.6, "sill": 0.6, "height": 0.8},
+                        {"x": 2.0, "width": 0.6, "sill": 0.4, "height": 0.8, "head": "arch"}],
+              name="wall-flemish-openings-2d"),
+         "Built by scenes.generators.wall: Flemish bond, a window under a lintel and one under a flat arch "
+         "of five voussoirs, loaded in its plane."),
+        (wall_corner(length=1.6, length_b=1.2, height=0.8, mu=0.6, name="wall-corner-3d"),
+         "Built by scenes.generators.wall_corner: two running-bond walls meeting at a corner, alternate "
+         "courses interlocking; the load along +x pushes wall B out of its plane."),
+        (wall_tee(length=2.4, length_b=1.2, height=0.8, mu=0.6, name="wall-tee-3d"),
+         "Built by scenes.generators.wall_tee: a stem wall bonded into the middle of a main wall in "
+         "alternate courses; the load along +x pushes the stem out of its plane."),
+        (buttressed_wall(length=2.4, height=1.2, buttresses=(1.0,), width=0.4, depth=0.4, mu=0.7,
+                         name="wall-buttressed-3d"),
+         "Built by scenes.generators.buttressed_wall: a running-bond wall with one buttress bonded into it "
+         "in alternate courses, loaded across the wall towards its front (-y), away from the buttress."),
+        (barrel_vault(span=2.0, thickness=0.2, n=7, rings=3, ring_width=0.3, mu=0.7, name="barrel-vault-3d"),
+         "Built by scenes.generators.barrel_vault: three staggered rings of seven voussoirs between fixed "
+         "abutments, loaded along the span."),
+        (cross_vault(span=2.0, thickness=0.2, n=6, segments=2, mu=0.8, name="cross-vault-3d"),
+         "Built by scenes.generators.cross_vault: four webs of six courses of two staggered blocks meeting "
+         "on the groins, on four fixed corner piers, loaded along one barrel's axis."),
+        (dome(span=3.0, thickness=0.2, meridians=8, rings=2, mu=0.8, name="dome-8x2-3d"),
+         "Built by scenes.generators.dome: two rings of eight voussoirs and a cap on a fixed base, "
+         "loaded horizontally."),
+    ]
+    for d, note in made:
+        d["meta"]["notes"] = note
+        if d["name"] == "wall-buttressed-3d":
+            d["loads"]["live"] = [{"type": "body_force", "direction": [0.0, -1.0, 0.0]}]
+    return [d for d, _ in made]
 
 
 def _oblique(half_x, half_y, h, theta):
