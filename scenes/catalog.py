@@ -25,13 +25,17 @@ DEM_COST_S = {"paper-fig2b-double-arch-2d": 689, "paper-fig3-opus-poligonale-70-
               "paper-fig7-fountain-full-3d": 277, "paper-fig3-opus-poligonale-40-2d": 236, "corner-walls-3d": 119,
               "paper-fig7-fountain-half-3d": 108, "paper-fig4-opus-africanum-2d": 81, "wall-6x5-3d": 63,
               "wall-out-of-plane-3d": 62, "ferris-tinloi-wall-2d": 57, "paper-fig3-opus-poligonale-25-2d": 51,
-              "arch-semicircular-27-2d": 19, "paper-fig2a-double-arch-2d": 18, "wall-4x4-tilting-2d": 14}
+              "arch-semicircular-27-2d": 19, "paper-fig2a-double-arch-2d": 18, "wall-4x4-tilting-2d": 14,
+              "cross-vault-3d": 547, "wall-flemish-openings-2d": 501, "wall-tee-3d": 210, "wall-buttressed-3d": 209,
+              "dome-8x2-3d": 94, "wall-corner-3d": 68, "barrel-vault-3d": 51}
 LMGC_COST_S = {"paper-fig3-opus-poligonale-70-2d": 190.0, "paper-fig3-opus-poligonale-40-2d": 61.0,
                "paper-fig2b-double-arch-2d": 58.0, "ferris-tinloi-wall-2d": 43.0, "corner-walls-3d": 40.0,
                "wall-6x5-3d": 35.0, "paper-fig4-opus-africanum-2d": 28.0, "paper-fig6-intersecting-walls-3d": 28.0,
                "wall-out-of-plane-3d": 20.0, "paper-fig3-opus-poligonale-25-2d": 16.0,
                "paper-fig7-fountain-full-3d": 13.0, "arch-semicircular-27-2d": 11.0, "wall-4x4-tilting-2d": 11.0,
-               "paper-fig5-trilithic-3d": 9.0}
+               "paper-fig5-trilithic-3d": 9.0, "wall-flemish-openings-2d": 357.0, "wall-tee-3d": 77.0,
+               "wall-buttressed-3d": 77.0, "wall-corner-3d": 45.0, "cross-vault-3d": 39.0, "barrel-vault-3d": 19.0,
+               "dome-8x2-3d": 12.0}
 
 
 #: why the 70-stone wall's YADE stage keeps the default two stiffnesses (``refine_max`` 0)
