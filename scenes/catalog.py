@@ -433,8 +433,9 @@ def generator_entries() -> list:
     a 2D Flemish-bond wall with a lintel and a flat arch, a corner, a T-junction, a buttressed wall
     loaded across, a barrel vault, a cross vault and a dome, each as ``limit build`` makes it with the
     parameters given here, the 3D ones declaring the paper's 4 sliding faces like the rest of the
-    catalog (``limit build`` leaves the solver's 24). They carry no closed form (the generators' own tests check volumes,
-    interface counts and the closed forms that exist): the dynamic check is their reference."""
+    catalog (``limit build`` leaves the solver's 24). They carry no closed form (the generators' own
+    tests check volumes, interface counts and the closed forms that exist): the dynamic check is
+    their reference."""
     from .generators import barrel_vault, buttressed_wall, cross_vault, dome, wall, wall_corner, wall_tee
 
     made = [
@@ -459,8 +460,8 @@ def generator_entries() -> list:
          "abutments, loaded along the span."),
         (cross_vault(span=2.0, thickness=0.2, n=6, segments=2, mu=0.8, name="cross-vault-3d"),
          "Built by scenes.generators.cross_vault: four webs of six courses of two staggered blocks meeting "
-         "on the groins, on four fixed corner piers, loaded along one barrel's axis. YADE's vertex model collapses about 3.5 % below "
-         "step 2 at every stiffness tried (loaded from rest: 0.2731 at eps 2.5e-6, 0.27241 at 6.25e-7), and "
+         "on the groins, on four fixed corner piers, loaded along one barrel's axis. YADE's vertex model "
+         "collapses about 3.5 % below step 2 at every stiffness tried (loaded from rest: 0.2731 at eps 2.5e-6, 0.27241 at 6.25e-7), and "
          "step 2 from its collapse state finds nothing lower, where LMGC90 (rigid contacts) meets step 2: "
          "its result is flagged suspect low, the cause not found (docs/performance.md)."),
         (dome(span=3.0, thickness=0.2, meridians=8, rings=2, mu=0.8, name="dome-8x2-3d"),
