@@ -454,27 +454,28 @@ def generator_entries() -> list:
         (buttressed_wall(length=2.4, height=1.2, buttresses=(1.0,), width=0.4, depth=0.4, mu=0.7,
                          name="wall-buttressed-3d"),
          "Built by scenes.generators.buttressed_wall: a running-bond wall with one buttress bonded into it "
-         "in alternate courses, loaded across the wall towards its front (-y), away from the buttress."),
+         "in alternate courses, loaded across the wall towards its front (-y), away from the buttress.",
+         (0.0, -1.0, 0.0)),
         (barrel_vault(span=2.0, thickness=0.2, n=7, rings=3, ring_width=0.3, mu=0.7, name="barrel-vault-3d"),
          "Built by scenes.generators.barrel_vault: three staggered rings of seven voussoirs between fixed "
          "abutments, loaded along the span."),
         (cross_vault(span=2.0, thickness=0.2, n=6, segments=2, mu=0.8, name="cross-vault-3d"),
          "Built by scenes.generators.cross_vault: four webs of six courses of two staggered blocks meeting "
          "on the groins, on four fixed corner piers, loaded along one barrel's axis. YADE's vertex model "
-         "collapses about 3.5 % below step 2 at every stiffness tried (loaded from rest: 0.2731 at eps 2.5e-6, 0.27241 at 6.25e-7), and "
-         "step 2 from its collapse state finds nothing lower, where LMGC90 (rigid contacts) meets step 2: "
-         "its result is flagged suspect low, the cause not found (docs/performance.md)."),
+         "collapses about 3.5 % below step 2, converged in the contact stiffness, where LMGC90 (rigid contacts) meets step 2 "
+         "and step 2 from YADE's collapse state finds nothing lower: YADE's result is flagged suspect low, "
+         "its cause open (docs/performance.md, 'The generators' catalog scenes')."),
         (dome(span=3.0, thickness=0.2, meridians=8, rings=2, mu=0.8, name="dome-8x2-3d"),
          "Built by scenes.generators.dome: two rings of eight voussoirs and a cap on a fixed base, "
          "loaded horizontally."),
     ]
-    for d, note in made:
+    for d, note, *live in made:  # live: a live-load direction other than the generator's +x
         d["meta"]["notes"] = note
+        if live:
+            d["loads"]["live"] = [{"type": "body_force", "direction": list(live[0])}]
         if d["dim"] == 3:  # the paper's 4 faces, like the rest of the catalog; the cone stage gives the
             d["interfaces"] = {**d.get("interfaces", {}), "sliding_faces": 4}  # 24 faces of limit build
-        if d["name"] == "wall-buttressed-3d":
-            d["loads"]["live"] = [{"type": "body_force", "direction": [0.0, -1.0, 0.0]}]
-    return [d for d, _ in made]
+    return [d for d, *_ in made]
 
 
 def _oblique(half_x, half_y, h, theta):
