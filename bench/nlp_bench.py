@@ -122,10 +122,10 @@ def strategies_part():
             g = milp.global_minimum(P, ub, time_limit=120)
             for label, (a, t) in found.items():
                 rows.append({"wall": f"{c}x{k} {L}x{H} m", "mu": mu, "strategy": label, "alpha_lp": sol.alpha,
-                             "alpha_nlp": a, "time_s": t, "alpha_milp": g.get("alpha"), "milp_status": g["status"],
-                             "at_global": a is not None and g.get("alpha") is not None
-                             and abs(a - g["alpha"]) <= 1e-6 * max(1.0, g["alpha"])})
-            print(f"strategies {c}x{k} mu {mu}: milp {g.get('alpha')} " +
+                             "alpha_nlp": a, "time_s": t, "alpha_milp": g.alpha, "milp_status": g.status,
+                             "at_global": a is not None and g.alpha is not None
+                             and abs(a - g.alpha) <= 1e-6 * max(1.0, g.alpha)})
+            print(f"strategies {c}x{k} mu {mu}: milp {g.alpha} " +
                   " ".join(f"{lb.split()[1] if ' ' in lb else lb}={a}" for lb, (a, _) in found.items()), flush=True)
     return pd.DataFrame(rows)
 

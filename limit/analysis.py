@@ -1,5 +1,6 @@
-"""The two-step limit analysis of a scene: :class:`Analysis`, the result file of docs/formats.md,
-'Result file', with the assembled problem and the LP solution it is made from.
+"""The two-step limit analysis of a scene: :class:`Analysis`, the typed result
+(:class:`limit.results.typed.Result`, written as the result file of docs/formats.md, 'Result
+file'), with the assembled problem and the LP solution it is made from.
 
 Step 1: the checked associative LP (:mod:`limit.solve.checked_lp`). Step 2 (NLP,
 :mod:`limit.step2`) is added by :func:`analyse` according to the method. The result's
@@ -7,10 +8,12 @@ parts are built by :mod:`limit.results.result_parts`.
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
 import logging
 import time
 from dataclasses import dataclass
+from functools import cached_property
 
 from limit import settings, step2
 from limit.solve.status import ANSWERED, Status
@@ -19,6 +22,7 @@ from limit.model.assemble import Assembled, Options, assemble
 from limit.solve.checked_lp import solve_lp, unsupported_blocks  # noqa: F401  (public here too)
 from limit.solve.nlp import needs_nlp
 from limit.results.result_parts import interfaces_part, lp_result  # noqa: F401
+from limit.results.typed import Result, StepResult, Verdict
 
 log = logging.getLogger(__name__)
 
@@ -29,12 +33,17 @@ RESULT_UNITS = {"length": "m", "mass": "kg", "force": "N", "time": "s"}
 
 @dataclass(frozen=True)
 class Analysis:
-    """One analysis: ``data``, the result file's content (plain JSON-ready values only), beside
-    the objects it is made from: ``P``, the assembled problem, and ``sol``, step 1's LP solution."""
+    """One analysis: ``result``, the typed result, beside the objects it is made from: ``P``, the
+    assembled problem, and ``sol``, step 1's LP solution. ``data`` is the result file's content
+    (plain JSON-ready values only), made from ``result`` once."""
 
-    data: dict
+    result: Result
     P: Assembled
     sol: lpmod.LPSolution
+
+    @cached_property
+    def data(self) -> dict:
+        return self.result.to_dict()
 
 
 def analyse(scene, method: str = "auto", options: Options | None = None, solver: str = lpmod.DEFAULT_SOLVER,
@@ -60,16 +69,16 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     t0 = time.perf_counter()
     P = assemble(scene, options)
     sol, attempts, residuals = solve_lp(P, solver, fallback, check_kinematic)
-    out = {"scene": scene.name, "dim": scene.dim, "n_blocks": scene.n_blocks,
-           "n_free_blocks": int(len(scene.free)), "n_interfaces": len(P.I), "units": dict(RESULT_UNITS)}
-    lp = lp_result(P, sol, attempts, residuals, time.perf_counter() - t0)
-    out["lp"] = _with_dead_mechanism(P, lp) if sol.status == Status.INFEASIBLE else lp
+    lp = StepResult.from_dict(lp_result(P, sol, attempts, residuals, time.perf_counter() - t0))
+    if sol.status == Status.INFEASIBLE:
+        lp = _with_dead_mechanism(P, lp)
+    part = None
     log.info("%s: LP %s, alpha %s (%.1f s)", scene.name, sol.status, "-" if sol.alpha is None else f"{sol.alpha:.6g}",
              time.perf_counter() - t0)
     if method != "lp":
         part = step2.step2(P, sol, method=method, **(nlp_options or {}))
-        log.info("%s: step 2 %s, alpha %s", scene.name, part.get("status"),
-                 "-" if part.get("alpha") is None else f"{part['alpha']:.6g}")
+        log.info("%s: step 2 %s, alpha %s", scene.name, part.status,
+                 "-" if part.alpha is None else f"{part.alpha:.6g}")
         st = settings.of(P)
         # the nearby starts below: small scenes with an LP optimum only
         nearby = sol.status == Status.OPTIMAL and len(scene.free) < st.large_min_free
@@ -83,17 +92,20 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
         if nearby and st.mirror_starts and _turnable(scene):
             log.info("%s: step 2 under the reversed live load, mirrored", scene.name)
             part = _from_mirror(scene, P, sol, part, options, nlp_options)
-        out["nlp"] = part
+    lower_bound = None
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic
 
-        out["lower_bound"] = radenkovic.lower_bound(P, solver)
+        lower_bound = radenkovic.lower_bound(P, solver)
+    result = Result(scene.name, scene.dim, scene.n_blocks, int(len(scene.free)), len(P.I), lp, part,
+                    dict(RESULT_UNITS), lower_bound)
     if verdict and scene.demand is not None:  # the code check, only for a scene that states a demand
         from limit.incremental_curve import follow_frictional
         from limit.verdict.local_check import scene_verdict
 
-        out["verdict"] = scene_verdict(scene, out, sliding=functools.partial(follow_frictional, options=options))
-    return Analysis(out, P, sol)
+        v = scene_verdict(scene, result.to_dict(), sliding=functools.partial(follow_frictional, options=options))
+        result = dataclasses.replace(result, verdict=Verdict.from_dict(v))
+    return Analysis(result, P, sol)
 
 
 def _turnable(scene) -> bool:
@@ -101,7 +113,7 @@ def _turnable(scene) -> bool:
     return scene.dim == 3 and bool(scene.live) and all(ld.get("type") == "body_force" for ld in scene.live)
 
 
-def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_options) -> dict:
+def _from_turned_directions(scene, P, sol, part: StepResult, deg: int, options, nlp_options) -> StepResult:
     """Step 2's part, also from the collapse states of the scene with its live load turned by
     +-``deg`` degrees about the vertical (the setting ``direction_starts_deg``): step 2 is a local
     search, and a state found under a nearby load direction can lie in a lower basin (Fig. 6:
@@ -124,12 +136,12 @@ def _from_turned_directions(scene, P, sol, part: dict, deg: int, options, nlp_op
                 yield fields, None, f"{type(exc).__name__}: {exc}", ""
                 continue
             sub = _analyse(turned_scene, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False)
-            yield fields, sub.data.get("nlp") or {}, "", f"direction {turn:+g} deg"
+            yield fields, sub.result.nlp or {}, "", f"direction {turn:+g} deg"
 
     return _adopt_states(P, sol, part, states(), "direction_starts", t0)
 
 
-def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
+def _from_reduced_friction(P, sol, part: StepResult, options, nlp_options) -> StepResult:
     """Step 2's part, also from the collapse states of step 2 (method nlp) with every friction
     coefficient and cohesion scaled by each factor of
     :data:`limit.solve.nlp_starts.FRICTION_FACTORS` (the setting ``friction_starts``), for a
@@ -142,8 +154,6 @@ def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
     on the catalog these states lowered nothing (docs/performance.md). Each state is tried as a
     dynamic run's is (:func:`limit.step2.adopt_dem_state`) and adopted where it verifies lower;
     the part records them under ``friction_starts``."""
-    import dataclasses
-
     from limit.solve.nlp_starts import FRICTION_FACTORS
 
     sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state", "global_check", "iterative"),
@@ -163,7 +173,7 @@ def _from_reduced_friction(P, sol, part: dict, options, nlp_options) -> dict:
     return _adopt_states(P, sol, part, states(), "friction_starts", t0)
 
 
-def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
+def _from_mirror(scene, P, sol, part: StepResult, options, nlp_options) -> StepResult:
     """Step 2's part, also from the collapse state of the scene under its live load reversed,
     reflected by the vertical mirror across the load (the setting ``mirror_starts``;
     :mod:`limit.model.reversal_mirror`), for a scene that this mirror maps onto itself; the part
@@ -190,9 +200,9 @@ def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
             yield {"load": "reversed"}, None, f"{type(exc).__name__}: {exc}", ""
             return
         sub = _analyse(reversed_scene, "auto", sub_options, lpmod.DEFAULT_SOLVER, True, False, sub_nlp, False)
-        nlp = sub.data.get("nlp") or {}
+        nlp = sub.result.nlp or {}
         if nlp.get("mechanism"):
-            nlp = {**nlp, "mechanism": mirror.mechanism(scene, nlp["mechanism"])}
+            nlp = nlp.updated(mechanism=mirror.mechanism(scene, nlp["mechanism"]))
         yield {"load": "reversed"}, nlp, "", "mirrored reversed-load"
 
     return _adopt_states(P, sol, part, states(), "mirror_starts", t0)
@@ -201,13 +211,11 @@ def _from_mirror(scene, P, sol, part: dict, options, nlp_options) -> dict:
 def _sub_analysis(P, options, nlp_options, drop: tuple, **off) -> tuple:
     """(options, nlp_options) of a nearby start's own analysis: P's settings with ``off`` changed
     (the nearby starts that must not recurse), and the step-2 keywords without ``drop``."""
-    import dataclasses
-
     sub_options = dataclasses.replace(options or Options(), settings=settings.of(P).replace(**off))
     return sub_options, {k: v for k, v in (nlp_options or {}).items() if k not in drop}
 
 
-def _adopt_states(P, sol, part: dict, states, key: str, t0: float) -> dict:
+def _adopt_states(P, sol, part: StepResult, states, key: str, t0: float) -> StepResult:
     """Step 2's part with each collapse state of ``states`` tried as a dynamic run's is
     (:func:`limit.step2.adopt_dem_state`) and adopted where it verifies lower, the attempts listed
     under ``key``. ``states`` yields (fields, nlp, failure, source): the fields naming the attempt,
@@ -227,15 +235,15 @@ def _adopt_states(P, sol, part: dict, states, key: str, t0: float) -> dict:
         part, entry = step2.adopt_dem_state(P, sol, part, {"displacement": nlp["mechanism"], "source": source})
         entries.append({**fields, "alpha_there": nlp.get("alpha"),
                         **{k: entry.get(k) for k in ("status", "alpha", "adopted", "reason")}})
-    part = {k: v for k, v in part.items() if k != "dem_start"}
+    part = part.without("dem_start")
     if own_dem is not None:
-        part["dem_start"] = own_dem
-    return {**part, key: entries, "time_s": (part.get("time_s") or 0.0) + time.perf_counter() - t0}
+        part = part.updated(dem_start=own_dem)
+    return part.updated(**{key: entries}, time_s=(part.time_s or 0.0) + time.perf_counter() - t0)
 
 
-def _with_dead_mechanism(P, lp: dict) -> dict:
+def _with_dead_mechanism(P, lp: StepResult) -> StepResult:
     """An "infeasible" LP part with the dead-load mechanism (:mod:`limit.solve.dead_mechanism`) as
-    ``dead_load_mechanism`` and its blocks and joints named in the reason (a new dict; ``lp``
+    ``dead_load_mechanism`` and its blocks and joints named in the reason (a new part; ``lp``
     itself where there is no such mechanism)."""
     from limit.solve import dead_mechanism
 
@@ -243,6 +251,6 @@ def _with_dead_mechanism(P, lp: dict) -> dict:
     if u is None:
         return lp
     part = dead_mechanism.describe(P, u)
-    return {**lp, "dead_load_mechanism": part,
-            "reason": f"{lp.get('reason') or 'the dead load alone cannot be carried'}; {dead_mechanism.phrase(part)}"}
+    return lp.updated(dead_load_mechanism=part,
+                      reason=f"{lp.reason or 'the dead load alone cannot be carried'}; {dead_mechanism.phrase(part)}")
 

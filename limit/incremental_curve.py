@@ -42,6 +42,7 @@ from limit.geom.geometry import Polytope, plane_basis, polygon_area_centroid
 from limit.geom.interfaces import Interfaces, _frame_fields, find_interfaces
 from limit.model.dims import rigid_velocity
 from limit.solve.status import ANSWERED, Status
+from limit.results.typed import StepResult
 from limit.verdict.capacity_curve import _screw, rotation_angle, spectral
 from limit.verdict.kinematic_check import FC_DEFAULT, horizontal_direction
 
@@ -308,8 +309,9 @@ def follow_frictional(scene, alpha0: float | None = None, *, mechanism: dict | N
                        st.curve_time_budget if time_budget is None else time_budget, progress)
 
 
-def _solve(scene, I, options=None, start: dict | None = None) -> dict:
-    """Step 2 on ``scene`` with the contacts ``I``: its part of the result (status, alpha, mechanism).
+def _solve(scene, I, options=None, start: dict | None = None):
+    """Step 2 on ``scene`` with the contacts ``I``: its part of the result
+    (:class:`limit.results.typed.StepResult`: status, alpha, mechanism).
     ``start``: the previous configuration's mechanism {block id: velocity}, tried as a start too
     (:func:`limit.step2.adopt_dem_state`: its joints that open and slide as the piece LP's flowing
     set), so that the curve keeps to the mechanism it follows where step 2's own starts find a
@@ -322,7 +324,7 @@ def _solve(scene, I, options=None, start: dict | None = None) -> dict:
     P = assemble(scene, options, interfaces=I)
     sol, _, _ = solve_lp(P, lpmod.DEFAULT_SOLVER, True, False)
     if sol.status not in (Status.OPTIMAL, Status.UNBOUNDED):  # unbounded: step 2 starts from the dead load
-        return {"status": sol.status, "alpha": None, "mechanism": None}
+        return StepResult(sol.status)
     state = None if start is None else {"displacement": start, "source": "previous step"}
     return step2.step2(P, sol, method="auto", dem_state=state)  # "skipped": the LP's point is frictional
 
@@ -403,7 +405,7 @@ def _follow(scene, alpha0, mechanism, steps, theta_max, span, fc, options, budge
             try:
                 part = _solve(now, cfg.contacts(max(scene.tolerance, 0.25 * move)), options, prev)
             except Exception as exc:  # a block that lost every contact, a failed assembly
-                part = {"status": Status.FAILED, "reason": f"no solution: {exc}"}
+                part = StepResult(Status.FAILED, reason=f"no solution: {exc}")
             solves += 1
             a = part.get("alpha")
             if not (a is not None and a > al[-1] + JUMP * abs(al[0])) or halving == JUMP_HALVINGS:

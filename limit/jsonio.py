@@ -5,14 +5,16 @@ import json
 import math
 import os
 import tempfile
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 
 def _plain(obj):
-    """JSON-ready copy: numpy types to Python, non-finite floats to null."""
-    if isinstance(obj, dict):
+    """JSON-ready copy: numpy types to Python, non-finite floats to null, any mapping (a typed
+    step's part, :class:`limit.results.typed.StepResult`, included) to a dict."""
+    if isinstance(obj, Mapping):
         return {str(k): _plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [_plain(v) for v in obj]

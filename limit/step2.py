@@ -15,6 +15,7 @@ from limit.solve.status import ANSWERED, Status
 from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
 from limit.results.result_parts import interfaces_part, ties_part
+from limit.results.typed import StepResult
 
 
 log = logging.getLogger(__name__)
@@ -185,8 +186,8 @@ def _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs) -> list:
 def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = "auto",
           arbitrary: bool = False, global_check: bool = False, iterative: bool = False,
           global_time_limit: float | str = FROM_SETTINGS, time_budget: float | None | str = FROM_SETTINGS,
-          dem_state: dict | None = None) -> dict:
-    """The ``nlp`` part of the result file (docs/formats.md, 'Result file').
+          dem_state: dict | None = None) -> StepResult:
+    """Step 2: the ``nlp`` part of the result file (docs/formats.md, 'Result file').
 
     ``method`` "auto" skips the NLP where the LP's mechanism has no sliding or twisting
     (:func:`limit.solve.nlp.needs_nlp`) and the LP's point passes the frictional check
@@ -213,8 +214,7 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         global_time_limit = st.global_time_limit
     if lp_sol.status not in (Status.OPTIMAL, Status.UNBOUNDED):
         status = Status.INFEASIBLE if lp_sol.status == Status.INFEASIBLE else Status.SKIPPED
-        return {"status": status, "alpha": None, "time_s": 0.0,
-                "reason": f"the LP (step 1) is {lp_sol.status}: no start for step 2"}
+        return StepResult(status, None, 0.0, f"the LP (step 1) is {lp_sol.status}: no start for step 2")
     n_free = P.n_dof // P.scene.ndof
     if lp_sol.status == Status.UNBOUNDED:
         need, why = True, "the LP has no mechanism (sliding needs dilatancy): step 2 starts from the dead load"
@@ -228,8 +228,8 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
         if not ok:
             need, why = True, f"the LP's point fails the frictional check ({fail})"
     if method == "auto" and not need:
-        part = {"status": Status.SKIPPED, "alpha": lp_sol.alpha, "time_s": time.perf_counter() - t0, "reason": why,
-                "verification": checked, "mechanism": mechanism.per_block(P, lp_sol.u)}
+        part = StepResult(Status.SKIPPED, lp_sol.alpha, time.perf_counter() - t0, why,
+                          mechanism.per_block(P, lp_sol.u), {"verification": checked})
         part = _independent(P, lp_sol, part, lp_sol.alpha, global_check, iterative, global_time_limit)
         if dem_state is not None:
             part, _ = adopt_dem_state(P, lp_sol, part, dem_state)
@@ -246,55 +246,54 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
                 large, out = True, {**alt, "runs": out.get("runs", []) + alt["runs"]}
             else:
                 out = {**out, "runs": out.get("runs", []) + alt["runs"]}
-    part = {"status": Status.OPTIMAL if out["ok"] else Status.FAILED, "alpha": out["alpha"] if out["ok"] else None,
-            "time_s": time.perf_counter() - t0, "solver": out.get("solver"), "start": out.get("start", "lp"),
-            "route": "iterative-lp" if large else "successive-lp"}
+    details = {"solver": out.get("solver"), "start": out.get("start", "lp"),
+               "route": "iterative-lp" if large else "successive-lp"}
     if large:
-        part.update({k: out.get(k) for k in ("alpha_best", "alpha_worst", "n_verified", "workers")},
-                    n_starts=len(out.get("starts", [])))
-    if not out["ok"]:
-        part["reason"] = out["reason"]
-        if "alpha" in out:
-            part["alpha_rejected"] = out["alpha"]
+        details.update({k: out.get(k) for k in ("alpha_best", "alpha_worst", "n_verified", "workers")},
+                       n_starts=len(out.get("starts", [])))
+    if not out["ok"] and "alpha" in out:
+        details["alpha_rejected"] = out["alpha"]
     if "residuals" in out:
-        part["verification"] = out["residuals"]
-        part["alpha_before_polish"] = out["alpha_raw"]
-        part["notes"] = out["notes"]
-    part["runs"] = out.get("runs", [])
-    if out["ok"]:
-        part.update(_point_part(P, out["N"], out["z"]))
+        details.update(verification=out["residuals"], alpha_before_polish=out["alpha_raw"], notes=out["notes"])
+    details["runs"] = out.get("runs", [])
+    point = _point_part(P, out["N"], out["z"]) if out["ok"] else {}
+    part = StepResult(Status.OPTIMAL if out["ok"] else Status.FAILED, out["alpha"] if out["ok"] else None,
+                      time.perf_counter() - t0, "" if out["ok"] else out["reason"], point.pop("mechanism", None),
+                      {**details, **point})
     if arbitrary and small:
         arb = run(P, lp_sol, solver=solver, start="arbitrary", backend=backend, restarts=False)
-        part["alpha_arbitrary_start"] = arb.get("alpha") if arb.get("ok") else None
-        part["arbitrary_start_status"] = "optimal" if arb.get("ok") else f"failed: {arb.get('reason')}"
-    part = _independent(P, lp_sol, part, part["alpha"] if out["ok"] else lp_sol.alpha, global_check, iterative,
+        part = part.updated(alpha_arbitrary_start=arb.get("alpha") if arb.get("ok") else None,
+                            arbitrary_start_status="optimal" if arb.get("ok") else f"failed: {arb.get('reason')}")
+    part = _independent(P, lp_sol, part, part.alpha if out["ok"] else lp_sol.alpha, global_check, iterative,
                         global_time_limit)
     if dem_state is not None:
         part, _ = adopt_dem_state(P, lp_sol, part, dem_state)
     return _settled(P, part, t0)
 
 
-def _settled(P, part: dict, t0: float) -> dict:
-    """The finished part (a new dict): its ``time_s`` since ``t0``, the independent routes
+def _settled(P, part: StepResult, t0: float) -> StepResult:
+    """The finished part (a new one): its ``time_s`` since ``t0``, the independent routes
     included, and status "infeasible" where its verified alpha is below zero by more than the
     setting ``tol_gap``: the dead load alone collapses the assembly (as the LP's rule,
     :func:`limit.solve.checked_lp.solve_lp`)."""
-    part = {**part, "time_s": time.perf_counter() - t0}
-    if part["status"] == Status.OPTIMAL and part.get("alpha") is not None and part["alpha"] < -settings.of(P).tol_gap:
-        part["status"] = Status.INFEASIBLE
+    part = part.updated(time_s=time.perf_counter() - t0)
+    if part.status == Status.OPTIMAL and part.alpha is not None and part.alpha < -settings.of(P).tol_gap:
+        part = part.updated(status=Status.INFEASIBLE)
     return part
 
 
-def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> tuple[dict, dict]:
+def adopt_dem_state(P, lp_sol, part, dem_state: dict) -> tuple[StepResult, dict]:
     """Step 2 from a dynamic run's collapse state (:func:`limit.solve.dem_start.solve`): (the part
-    with the ``dem_start`` entry, the entry), ``part`` itself unchanged. The entry's verified point
+    with the ``dem_start`` entry, the entry); ``part`` (a :class:`StepResult` or a result file's
+    ``nlp`` dict) itself unchanged. The entry's verified point
     becomes the answer where it is lower than the part's alpha by more than the setting
     ``lower_by`` (or the part has none); ``alpha_step2`` keeps the alpha it replaces."""
     from limit.solve import dem_start
 
+    part = StepResult.from_dict(part)
     source = dem_state.get("source") or "dem"
     r = dem_start.solve(P, lp_sol, dem_state.get("displacement") or {})
-    own = part.get("alpha") if part.get("status") in ANSWERED else None
+    own = part.alpha if part.status in ANSWERED else None
     adopt = r["status"] == Status.OPTIMAL and lower(r["alpha"], own, settings.of(P).lower_by)
     reason = (f"verified, not below step 2's {own:.6g}" if r["status"] == Status.OPTIMAL and not adopt
               else r["reason"])
@@ -304,7 +303,7 @@ def adopt_dem_state(P, lp_sol, part: dict, dem_state: dict) -> tuple[dict, dict]
     if dem_state.get("alpha") is not None:
         entry["dem_alpha"] = dem_state["alpha"]
     if not adopt:
-        return {**part, "dem_start": entry}, entry
+        return part.updated(dem_start=entry), entry
     return _answer(part, {"dem_start": entry}, _point_part(P, r["N"], r["z"]), status=Status.OPTIMAL,
                    alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
                    verification=r["residuals"],
@@ -353,17 +352,16 @@ def _point_part(P, N, z) -> dict:
     return out
 
 
-def _answer(part: dict, *updates: dict, **fields) -> dict:
+def _answer(part: StepResult, *updates: dict, **fields) -> StepResult:
     """A new part whose answer is another verified point: ``part`` updated by each of ``updates``
     and then ``fields`` (in this order), without the ``alpha_rejected`` of a failed search."""
-    out = dict(part)
+    merged = {}
     for u in (*updates, fields):
-        out.update(u)
-    out.pop("alpha_rejected", None)
-    return out
+        merged.update(u)
+    return part.updated(**merged).without("alpha_rejected")
 
 
-def _adopt_global(P, lp_sol, part, g, entry) -> tuple[dict, dict]:
+def _adopt_global(P, lp_sol, part: StepResult, g: milp.GlobalMinimum, entry) -> tuple[StepResult, dict]:
     """(part, entry): the MILP's point made step 2's answer where it is lower than step 2's alpha
     by more than the setting ``lower_by`` (relative; or step 2 has none) and passes the same
     independent check (:func:`limit.solve.nlp.finish`: the piece-LP polish, then
@@ -371,11 +369,11 @@ def _adopt_global(P, lp_sol, part, g, entry) -> tuple[dict, dict]:
     dicts, the arguments unchanged. A MILP point is a frictional collapse state like step 2's; an
     incumbent at the time limit (no proof) counts too. ``alpha_step2`` keeps the local search's
     alpha."""
-    a, own, by = g.get("alpha"), part.get("alpha"), settings.of(P).lower_by
-    if g.get("z") is None or not lower(a, own, by):
+    a, own, by = g.alpha, part.alpha, settings.of(P).lower_by
+    if g.z is None or not lower(a, own, by):
         return part, entry
     N = build(P)
-    z, ok, res, why, note = nlp.finish(N, g["z"], lp_sol.alpha, "highs")
+    z, ok, res, why, note = nlp.finish(N, g.z, lp_sol.alpha, "highs")
     if not ok or not lower(float(z[N.ia]), own, by):
         return part, {**entry, "adopted": False,
                       "reason": "; ".join(t for t in (entry.get("reason"), f"its point fails the check: {why}"
@@ -383,31 +381,31 @@ def _adopt_global(P, lp_sol, part, g, entry) -> tuple[dict, dict]:
                                           if t)}
     return _answer(part, _point_part(P, N, z), status=Status.OPTIMAL, alpha=float(z[N.ia]), alpha_step2=own,
                    route="global-milp", solver="milp", verification=res,
-                   reason=(f"the global MILP's point ({g['status']}; {note}) passed the check below step 2's "
+                   reason=(f"the global MILP's point ({g.status}; {note}) passed the check below step 2's "
                            + (f"{own:.6g}" if own is not None else "failure"))), {**entry, "adopted": True}
 
 
-def _independent(P, lp_sol, part, alpha_ub, global_check, iterative, time_limit) -> dict:
-    """The part with the independent routes (global MILP, iterative LP) added: a new dict, ``part``
+def _independent(P, lp_sol, part: StepResult, alpha_ub, global_check, iterative, time_limit) -> StepResult:
+    """The part with the independent routes (global MILP, iterative LP) added: a new part, ``part``
     unchanged. A MILP point below step 2's alpha that passes the check becomes the answer
     (:func:`_adopt_global`)."""
     n_free, most = P.n_dof // P.scene.ndof, settings.of(P).global_max_blocks
     if global_check:
         if n_free > most:
-            part = {**part, "global": {"status": Status.SKIPPED, "reason": f"{n_free} free blocks > {most}"}}
+            part = part.updated(**{"global": {"status": Status.SKIPPED, "reason": f"{n_free} free blocks > {most}"}})
         elif alpha_ub is None:  # the LP unbounded and step 2 without a point: no bound for the MILP
-            part = {**part, "global": {"status": Status.SKIPPED, "reason": "no known alpha to bound the MILP"}}
+            part = part.updated(**{"global": {"status": Status.SKIPPED, "reason": "no known alpha to bound the MILP"}})
         else:
             g = milp.global_minimum(P, alpha_ub, time_limit=time_limit)
-            entry = {k: g.get(k) for k in ("status", "alpha", "bound", "time_s", "reason")}
-            if g.get("alpha") is not None and part.get("alpha") is not None:
-                entry["gap"] = (part["alpha"] - g["alpha"]) / max(abs(g["alpha"]), 1e-12)
+            entry = g.entry()
+            if g.alpha is not None and part.alpha is not None:
+                entry["gap"] = (part.alpha - g.alpha) / max(abs(g.alpha), 1e-12)
             part, entry = _adopt_global(P, lp_sol, part, g, entry)
-            part = {**part, "global": entry}
+            part = part.updated(**{"global": entry})
     if iterative and lp_sol.status != Status.OPTIMAL:
-        part = {**part, "iterative_lp": {"status": Status.SKIPPED, "alpha": None,
-                                         "reason": f"the LP is {lp_sol.status}"}}
+        part = part.updated(iterative_lp={"status": Status.SKIPPED, "alpha": None,
+                                          "reason": f"the LP is {lp_sol.status}"})
     elif iterative:
         it = iterative_lp.solve(P, lp_sol)
-        part = {**part, "iterative_lp": {k: it.get(k) for k in ("status", "alpha", "iterations", "time_s", "reason")}}
+        part = part.updated(iterative_lp=it.entry())
     return part

@@ -130,8 +130,7 @@ def run_la(path: str, options: dict, curve: bool = True) -> dict:
     except Exception as exc:  # noqa: BLE001 - reported, never raised
         res = {"lp": {"status": "failed", "alpha": None,
                       "reason": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc(limit=5)}}
-    res["stage_time_s"] = time.perf_counter() - t0
-    return res
+    return {**res, "stage_time_s": time.perf_counter() - t0}
 
 
 def _curve(scene, res: dict):

@@ -191,14 +191,14 @@ def test_lp_start_beats_arbitrary_start():
     P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
     best = step2.run(P, sol)
     g = milp.global_minimum(P, best["alpha"])
-    assert g["status"] == "optimal"
-    assert best["ok"] and best["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
+    assert g.status == "optimal"
+    assert best["ok"] and best["alpha"] == pytest.approx(g.alpha, rel=1e-6)
     outcomes = []
     for seed in range(4):
         arb = step2.run(P, sol, solver="slsqp", start="arbitrary", seed=seed, restarts=False)
         outcomes.append(arb["alpha"] if arb["ok"] else None)
     # every arbitrary start fails its check or ends more than 10 % above the global minimum
-    assert all(a is None or a > 1.1 * g["alpha"] for a in outcomes), outcomes
+    assert all(a is None or a > 1.1 * g.alpha for a in outcomes), outcomes
 
 
 def test_nlp_never_above_lp_and_problem_shapes():
@@ -213,8 +213,8 @@ def test_nlp_never_above_lp_and_problem_shapes():
 def test_iterative_lp_on_pure_sliding_block():
     P, sol = setup(B.single_block(dim=2, b=1.0, h=0.5, mu=0.3))
     it = iterative_lp.solve(P, sol)
-    assert it["status"] == "converged"
-    assert it["alpha"] == pytest.approx(0.3, rel=1e-6)
+    assert it.status == "converged"
+    assert it.alpha == pytest.approx(0.3, rel=1e-6)
 
 
 @pytest.mark.slow  # about 15 s: step 2 and the iterative LP on the 30-block 3D wall

@@ -135,13 +135,15 @@ def test_the_lp_solver_threshold_is_read_from_the_settings():
 def test_the_global_check_size_limit_is_read_from_the_settings():
     from limit import step2
     from limit.analysis import solve_lp
+    from limit.results.typed import StepResult
+    from limit.solve.status import Status
 
     P = assemble(load_scene(_wall()), limit.Options(settings={"global_max_blocks": 2}))
     sol, _, _ = solve_lp(P)
-    part = {}
+    part = StepResult(Status.FAILED, reason="stand-in")
     assert step2._independent(P, sol, part, sol.alpha, True, False, 1.0)["global"] == {
         "status": "skipped", "reason": "10 free blocks > 2"}
-    assert part == {}  # a new part: the argument unchanged
+    assert "global" not in part  # a new part: the argument unchanged
 
 
 # -- the command line --------------------------------------------------------------------------

@@ -80,9 +80,9 @@ def test_small_wall_agrees_with_the_global_minimum():
     P, sol = _solved(B.running_bond_wall(3, 2, dim=2, L=0.4, H=0.3, mu=0.9))
     big = step2_large.solve(P, sol)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)
-    assert g["status"] == "optimal" and big["ok"]
-    assert big["alpha_worst"] >= g["alpha"] - 1e-7
-    assert big["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
+    assert g.status == "optimal" and big["ok"]
+    assert big["alpha_worst"] >= g.alpha - 1e-7
+    assert big["alpha"] == pytest.approx(g.alpha, rel=1e-6)
 
 
 def test_a_failed_check_is_failed_never_a_number(monkeypatch):
@@ -252,9 +252,9 @@ def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
     _set(monkeypatch, P, **{threshold: 1})
     big = step2_large.solve(P, sol, workers=1)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)
-    assert g["status"] == "optimal" and big["ok"]
-    assert big["alpha_worst"] >= g["alpha"] - 1e-7
-    assert big["alpha"] == pytest.approx(g["alpha"], rel=1e-6)
+    assert g.status == "optimal" and big["ok"]
+    assert big["alpha_worst"] >= g.alpha - 1e-7
+    assert big["alpha"] == pytest.approx(g.alpha, rel=1e-6)
     return seen, big
 
 

@@ -19,6 +19,7 @@ With ``ipm`` the result also carries the last LP's point (``xh``, ``vh``,
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -26,6 +27,32 @@ import scipy.sparse as sp
 from limit.solve import lpsub
 from limit.solve.status import IpmStatus, IterativeStatus
 from limit.model.yield_domain import SLIDE, TWIST
+
+
+@dataclass(frozen=True)
+class IterativeResult:
+    """The outcome of :func:`solve`. ``status``: :class:`IterativeStatus`; ``alpha``: the last LP's
+    load factor (None when an LP failed or none ran); ``iterations``: LPs solved; ``history``: each
+    LP's alpha; ``time_s``: seconds; ``reason``: why it did not converge (empty where it did).
+    Backend ``ipm`` only: ``nstar`` (the last N*, scaled, one per friction row) and the last LP's
+    point ``xh``, ``vh``, ``lamh`` (scaled actions, mechanism with fLh . vh = 1, multipliers)."""
+
+    status: IterativeStatus
+    alpha: float | None
+    iterations: int
+    history: list
+    time_s: float
+    reason: str = ""
+    nstar: np.ndarray | None = field(default=None, repr=False)
+    xh: np.ndarray | None = field(default=None, repr=False)
+    vh: np.ndarray | None = field(default=None, repr=False)
+    lamh: np.ndarray | None = field(default=None, repr=False)
+
+    def entry(self) -> dict:
+        """The result file's ``nlp.iterative_lp`` entry (docs/formats.md): status, alpha,
+        iterations, time_s, reason (None where there is none)."""
+        return {"status": self.status, "alpha": self.alpha, "iterations": self.iterations, "time_s": self.time_s,
+                "reason": self.reason or None}
 
 
 def _normal_columns(P, rows):
@@ -58,8 +85,8 @@ def friction_rows(P):
 
 def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300, backend: str = "highs",
           nstar0: np.ndarray | None = None, on_iterate=None, lp_tol=None, warm_start: bool = False,
-          prox: float | None = None) -> dict:
-    """{"status", "alpha", "iterations", "history", "time_s"} of the iterative LP.
+          prox: float | None = None) -> IterativeResult:
+    """The iterative LP (:class:`IterativeResult`).
 
     ``nstar0``: the first N* (scaled, one per friction row; default: the LP's).
     ``on_iterate(it, r, nstar)`` (ipm backend): called after each LP with its result; a
@@ -97,18 +124,17 @@ def solve(P, lp_sol, omega: float = 0.5, tol: float = 1e-8, max_iter: int = 300,
         b[fr] = np.maximum(P.kh[fr] - ncoef * nstar, 0.0)
         res = lpsub.solve(c, Aeq, -P.f0h, Aub, b, lo, hi, backend)
         if not res.ok:
-            return {"status": IterativeStatus.FAILED, "alpha": None, "iterations": it, "history": history,
-                    "time_s": time.perf_counter() - t0, "reason": f"LP {it}: {res.status}"}
+            return IterativeResult(IterativeStatus.FAILED, None, it, history, time.perf_counter() - t0,
+                                   f"LP {it}: {res.status}")
         alpha = float(res.z[0])
         nnew = res.z[1:][ncol]
         history.append(alpha)
         change = float(np.max(np.abs(nnew - nstar), initial=0.0)) / max(float(np.max(np.abs(nnew), initial=0.0)), 1e-300)
         nstar = nstar + omega * (nnew - nstar)
         if change < tol:
-            return {"status": IterativeStatus.CONVERGED, "alpha": alpha, "iterations": it, "history": history,
-                    "time_s": time.perf_counter() - t0}
-    return {"status": IterativeStatus.NOT_CONVERGED, "alpha": alpha, "iterations": max_iter, "history": history,
-            "time_s": time.perf_counter() - t0, "reason": f"normal forces still changing after {max_iter} LPs"}
+            return IterativeResult(IterativeStatus.CONVERGED, alpha, it, history, time.perf_counter() - t0)
+    return IterativeResult(IterativeStatus.NOT_CONVERGED, alpha, max_iter, history, time.perf_counter() - t0,
+                           f"normal forces still changing after {max_iter} LPs")
 
 
 #: smallest N* of the ipm backend, relative to the largest (see _solve_ipm); an LP that does not
@@ -145,7 +171,7 @@ def _proximal(P, ncol, nstar, prox) -> dict:
 
 
 def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=None, warm_start=False,
-               prox=None) -> dict:
+               prox=None) -> IterativeResult:
     from limit.solve import ipm
     fr, Yc, ncol, ncoef = friction_rows(P)
     nstar = (lp_sol.x / P.Dx)[ncol] if nstar0 is None else np.asarray(nstar0, float).copy()
@@ -174,8 +200,8 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
                 break
             rel *= 100.0
         if r["status"] not in _OK:
-            return {"status": IterativeStatus.FAILED, "alpha": None, "iterations": it, "history": history,
-                    "time_s": time.perf_counter() - t0, "reason": f"LP {it}: {r['reason']}"}
+            return IterativeResult(IterativeStatus.FAILED, None, it, history, time.perf_counter() - t0,
+                                   f"LP {it}: {r['reason']}")
         history.append(float(r["alpha"]))
         warm = r
         nnew = r["xh"][ncol]
@@ -187,10 +213,7 @@ def _solve_ipm(P, lp_sol, omega, tol, max_iter, nstar0, on_iterate, t0, lp_tol=N
         if change < tol:
             status = IterativeStatus.CONVERGED
             break
-    out = {"status": status, "alpha": history[-1] if history else None, "iterations": it, "history": history,
-           "time_s": time.perf_counter() - t0, "nstar": nstar}
-    if r is not None:
-        out.update(xh=r["xh"], vh=r["vh"], lamh=r["lamh"])
-    if status == IterativeStatus.NOT_CONVERGED:
-        out["reason"] = f"normal forces still changing after {max_iter} LPs"
-    return out
+    last = {} if r is None else {"xh": r["xh"], "vh": r["vh"], "lamh": r["lamh"]}
+    why = f"normal forces still changing after {max_iter} LPs" if status == IterativeStatus.NOT_CONVERGED else ""
+    return IterativeResult(status, history[-1] if history else None, it, history, time.perf_counter() - t0, why,
+                           nstar, **last)

@@ -24,6 +24,7 @@ cap is enlarged until no multiplier reaches it. Practical up to some 30 blocks.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -65,8 +66,29 @@ def _bounds(N, P, alpha_ub, deadline):
     return S, L
 
 
-def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: int = 4) -> dict:
-    """{"status", "alpha", "z", "time_s", "bound", "reason"} of the complementarity MILP.
+@dataclass(frozen=True)
+class GlobalMinimum:
+    """The outcome of :func:`global_minimum`. ``status``: :class:`GlobalStatus`; ``alpha``: the
+    best point's load factor (None without a point); ``bound``: the proven lower bound of alpha
+    (None where the search did not give one); ``time_s``: seconds; ``reason``: why it is not a
+    proven optimum (empty where it is); ``z``: the best point, unknowns of the scaled NLP
+    (:func:`limit.solve.nlp_problem.build`; None without a point)."""
+
+    status: GlobalStatus
+    alpha: float | None = None
+    bound: float | None = None
+    time_s: float = 0.0
+    reason: str = ""
+    z: np.ndarray | None = field(default=None, repr=False)
+
+    def entry(self) -> dict:
+        """The result file's ``nlp.global`` entry (docs/formats.md): status, alpha, bound, time_s, reason."""
+        return {"status": self.status, "alpha": self.alpha, "bound": self.bound, "time_s": self.time_s,
+                "reason": self.reason}
+
+
+def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: int = 4) -> GlobalMinimum:
+    """The global minimum of alpha by the complementarity MILP (:class:`GlobalMinimum`).
 
     ``alpha_ub``: a known feasible value (NLP) or the LP's alpha. "optimal" means
     proven global optimum (relative gap 1e-7); "time_limit" returns the best
@@ -80,8 +102,8 @@ def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: i
     try:
         S, L = _bounds(N, P, alpha_ub * (1 + 1e-9) + 1e-12, deadline)
     except TimeoutError:
-        return {"status": GlobalStatus.TIME_LIMIT, "alpha": None, "bound": None, "time_s": time.perf_counter() - t0,
-                "reason": f"bound tightening not finished within {time_limit:g} s"}
+        return GlobalMinimum(GlobalStatus.TIME_LIMIT, time_s=time.perf_counter() - t0,
+                             reason=f"bound tightening not finished within {time_limit:g} s")
     finite = L[np.isfinite(L)]
     cap = 10.0 * max(float(finite.max()) if finite.size else 1.0, 1.0)
     lo, hi = N.bounds()
@@ -92,7 +114,7 @@ def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: i
     lam_cols = np.arange(N.sl.start, N.sl.stop)
     sel = sp.csr_matrix((np.ones(nf), (np.arange(nf), lam_cols)), shape=(nf, n))
     cut = sp.csr_matrix(np.concatenate([[-1.0], np.zeros(P.model.n_x), -P.f0h, np.zeros(nf), np.zeros(nf)]))
-    out = {}
+    out = None
     for _ in range(max_enlarge + 1):
         Lc = np.where(np.isfinite(L), L, cap)
         Sc = np.where(np.isfinite(S), S, 10.0 * max(float(S[np.isfinite(S)].max(initial=1.0)), 1.0))
@@ -116,16 +138,15 @@ def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: i
         if res.x is None:
             status = {1: GlobalStatus.TIME_LIMIT, 2: GlobalStatus.INFEASIBLE,
                       3: GlobalStatus.UNBOUNDED}.get(res.status, GlobalStatus.FAILED)
-            return {"status": status, "alpha": None, "bound": bound, "time_s": time.perf_counter() - t0,
-                    "reason": res.message}
+            return GlobalMinimum(status, None, bound, time.perf_counter() - t0, res.message)
         z = res.x[:n]
-        out = {"status": GlobalStatus.OPTIMAL if res.status == 0 else GlobalStatus.TIME_LIMIT, "alpha": float(z[N.ia]), "z": z,
-               "bound": bound, "time_s": time.perf_counter() - t0, "reason": "" if res.status == 0 else res.message}
+        out = GlobalMinimum(GlobalStatus.OPTIMAL if res.status == 0 else GlobalStatus.TIME_LIMIT, float(z[N.ia]),
+                            bound, time.perf_counter() - t0, "" if res.status == 0 else res.message, z)
         capped = (~np.isfinite(L)) & (z[N.sl] > 0.5 * cap)
         if not capped.any():
             return out
         cap *= 10.0  # a capped multiplier came close to its cap: it might cut off the optimum
-    out["status"] = out.get("status", GlobalStatus.TIME_LIMIT) if out else GlobalStatus.TIME_LIMIT
-    out.setdefault("reason", "multiplier cap still active")
-    out["time_s"] = time.perf_counter() - t0
-    return out
+    if out is None:  # the time ran out before the first search
+        return GlobalMinimum(GlobalStatus.TIME_LIMIT, time_s=time.perf_counter() - t0,
+                             reason="multiplier cap still active")
+    return GlobalMinimum(out.status, out.alpha, out.bound, time.perf_counter() - t0, out.reason, out.z)

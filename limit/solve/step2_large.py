@@ -339,7 +339,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
                              lp_tol=lambda: LP_TOL_FAR if relax["best"] > FAR_COMP else LP_TOL_NEAR[P.scene.dim],
                              warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS,
                              prox=PROX[P.scene.dim] if _free_blocks(P) >= settings.of(P).prox_min_free else None)
-    rec = {"iterations": out["iterations"], "snaps": snaps[0], "time_s": time.perf_counter() - t0,
+    rec = {"iterations": out.iterations, "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
     if found:
         if stop is not None:
@@ -352,8 +352,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
         why = f"stopped: another start had verified ({GRACE:.0%} of its time given to the others)" if GRACE \
             else "stopped: another start had verified first"
     else:
-        why = out.get("reason") or ("time budget spent" if out["status"] == IterativeStatus.STOPPED else out["status"])
-    return {**rec, "verified": False, "alpha": out.get("alpha"), "z": None, "how": None, "reason": why}
+        why = out.reason or ("time budget spent" if out.status == IterativeStatus.STOPPED else out.status)
+    return {**rec, "verified": False, "alpha": out.alpha, "z": None, "how": None, "reason": why}
 
 
 class _Stop:
