@@ -19,7 +19,7 @@ import sys
 import time
 
 #: name -> (default, meaning). Times in s, after the issue's measured recipe: gravity alone,
-#: then the live load ramped in and held; collapse = a block moved 1e-3 x the scene size.
+#: then the live load ramped in and held; collapse = a block moved collapse_rel x the scene size.
 KNOBS = {
     "dt": (1e-3, "time step (s); at 1e-2 a 55-block wall at rest drifted 1.8 mm in 3 s, at 1e-3 3 um"),
     "dt_tau": (0.0, "time step rule (dimensionless): where > 0, dt becomes min(dt, dt_tau x sqrt(h / g)), h the "
