@@ -49,6 +49,8 @@ KNOBS = {
     "refine_rtol": (0.05, "vertex model: when the two stiffest runs differ by more than this (relative), "
                           "one more run at a quarter of the stiffest eps"),
     "refine_max": (2, "vertex model: at most this many such extra runs"),
+    "refine_cpu_s": (1500.0, "vertex model: an extra run starts only if the CPU seconds so far plus its projection "
+                             "(2 x the stiffest run's) stay within this (engines/yade/refine.py)"),
     "pen_target": (0.1, "vertex model: r is at least the expected largest point penetration / pen_target"),
     "pen_limit": (0.3, "vertex model: a run fails when an equilibrium has a contact penetration above this x r"),
     "trial_T": (10.0, "step budget of one load step, in units of T"),
@@ -98,7 +100,7 @@ def check(knobs: dict, contact: str = "vertex") -> dict:
     positive = ("ks_ratio", "cfl", "early_disp", "step0", "alpha_max", "alpha_rtol", "alpha_rtol_soft", "eq_tol", "motion_tol",
                 "creep_disp",
                 "collapse_disp", "checks_per_T", "runaway_T", "trial_T", "extrapolation_exponent", "rebracket",
-                "rerun_floor", "rerun_reach", "vertex_r", "pen_limit", "pen_target", "refine_rtol")
+                "rerun_floor", "rerun_reach", "vertex_r", "pen_limit", "pen_target", "refine_rtol", "refine_cpu_s")
     for k in positive:
         if not p[k] > 0:
             raise ValueError(f"{k}: must be > 0, got {p[k]!r}")

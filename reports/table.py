@@ -103,7 +103,8 @@ def dem_model_text(dem: dict) -> str:
                     "the stiffest run's alpha is taken as it is, with its corner rounding of r")
         return (f"Vertex-to-face model: runs {raw}; vertex spheres r = {radii} mm ({rounding})"
                 + (f"; deepest contact at an equilibrium {pen:.2f} r" if pen is not None else "") + "."
-                + (f" {dem['note'][0].upper()}{dem['note'][1:]}." if dem.get("note") else ""))
+                + (f" {dem['note'][0].upper()}{dem['note'][1:]}." if dem.get("note") else "")
+                + (f" No stiffer run: {dem['refinement']}." if dem.get("refinement") else ""))
     return f"Polyhedra model: runs {raw}, extrapolated to rigid contacts as eps^1/3."
 
 

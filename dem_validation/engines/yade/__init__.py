@@ -3,8 +3,8 @@
 Host side: this adapter, :mod:`.launch` (the executable, fixed addresses) and
 :mod:`.assemble` (the runs to one result). YADE side, run by ``yade -n -x yade_main.py
 job.json`` in the run's work directory: :mod:`.yade_main`, :mod:`.pushover`,
-:mod:`.yade_model`, :mod:`.yade_polyhedra`, :mod:`.yade_vertex`. The knobs are
-:data:`dem_validation.params.KNOBS`.
+:mod:`.refine` (when a stiffer run follows), :mod:`.yade_model`, :mod:`.yade_polyhedra`,
+:mod:`.yade_vertex`. The knobs are :data:`dem_validation.params.KNOBS`.
 """
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ class Yade:
     side_dir = Path(__file__).resolve().parent
     #: they import one another, never the project's packages; each run gets copies in its work
     #: directory, so YADE sees the same relative paths from any clone
-    side_files = ("yade_main.py", "pushover.py", "yade_model.py", "yade_polyhedra.py", "yade_vertex.py")
+    side_files = ("yade_main.py", "pushover.py", "refine.py", "yade_model.py", "yade_polyhedra.py", "yade_vertex.py")
     entry = "yade_main.py"
 
     def knobs(self, given: dict, contact: str = "vertex") -> dict:

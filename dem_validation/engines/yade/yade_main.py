@@ -18,36 +18,26 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
 
 import pushover  # noqa: E402  (a sibling module, importable without the project's packages)
+import refine  # noqa: E402
 import yade_model  # noqa: E402
 
 
-def _apart(soft, stiff, p):
-    """True when two runs disagree: of different kinds (one collapsed under the dead load,
-    or stood, where the other collapsed under load), or collapsed at alphas more than
-    refine_rtol apart (relative)."""
-    kind = lambda r: "dead" if r.get("dead_load_collapse") else r["status"]  # noqa: E731
-    if kind(soft) != kind(stiff):
-        return True
-    if kind(stiff) != "collapsed" or soft.get("alpha") is None or not stiff.get("alpha"):
-        return False
-    return abs(stiff["alpha"] - soft["alpha"]) > float(p["refine_rtol"]) * abs(stiff["alpha"])
-
-
 def run_pushovers(job, eps_list, p):
-    """(model, runs): the pushover at every stiffness. Polyhedra (``contact: polyhedra``):
-    one model, a stiffer run restarts from a softer run's equilibrium. Vertex model (the
+    """(model, runs, refinement): the pushover at every stiffness, each run with its ``cpu_s``.
+    Polyhedra (``contact: polyhedra``): one model, a stiffer run restarts from a softer run's equilibrium. Vertex model (the
     default): each stiffness has its own sphere radius, so each is a new model loaded from
     scratch (also one loading path for every stiffness, where friction makes the path matter)
     whose first load step goes near the softer run's collapse;
-    while the two stiffest runs disagree (:func:`_apart`), one more run at a quarter of the
-    stiffest eps (at most refine_max more)."""
+    while the two stiffest runs disagree, one more run at a quarter of the stiffest eps, within
+    refine_max and refine_cpu_s (:func:`refine.next_eps`). ``refinement``: why the two stiffest
+    runs are left apart (empty where they agree)."""
     contact = job.get("contact", "vertex")
     if contact == "polyhedra":
         import yade_polyhedra
 
         model = yade_polyhedra.PolyhedraModel(job)
         emit({"phase": "start", "blocks": len(model.free), "eps": eps_list})
-        return model, pushover.pushover(model, eps_list, p, emit=emit)
+        return model, pushover.pushover(model, eps_list, p, emit=emit), ""
     if contact != "vertex":
         raise ValueError(f"unknown contact model {contact!r}")
     import yade_vertex
@@ -56,6 +46,7 @@ def run_pushovers(job, eps_list, p):
     eps_list = list(eps_list)
     extra = 0
     k = 0
+    why = ""
     while k < len(eps_list):
         eps = eps_list[k]
         if k:
@@ -66,15 +57,19 @@ def run_pushovers(job, eps_list, p):
         hint = (prev["alpha_lo"], prev["alpha_hi"]) if prev else None
         # a softer run only sets the extrapolation's slope (weight 1/3): a wider bracket will do
         pk = p if k == len(eps_list) - 1 else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
+        c0 = time.process_time()
         run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint)[0]
+        run["cpu_s"] = time.process_time() - c0
         run["sphere_radius"] = model.r
         run["mass_factor"] = model.mass_factor
         runs.append(run)
         k += 1
-        if k == len(eps_list) and len(runs) >= 2 and extra < int(p["refine_max"]) and _apart(runs[-2], runs[-1], p):
-            eps_list.append(eps / 4.0)  # the two stiffest runs are not yet close: one stiffer run
-            extra += 1
-    return model, runs
+        if k == len(eps_list):
+            stiffer, why = refine.next_eps(runs, extra, time.process_time(), p)
+            if stiffer is not None:  # the two stiffest runs are not yet close: one stiffer run
+                eps_list.append(stiffer)
+                extra += 1
+    return model, runs, why
 
 
 def _vec(v):
@@ -123,8 +118,10 @@ def main(argv):
     eps_list = [float(e) for e in p["eps"]]
     res = {"status": "failed", "runs": []}
     try:
-        model, runs = run_pushovers(job, eps_list, p)
+        model, runs, why = run_pushovers(job, eps_list, p)
         res.update(length=model.length)
+        if why:
+            res["refinement"] = why
         ids = [b["id"] for b in job["blocks"]]
         for r in runs:
             c = r.pop("collapse")
