@@ -117,7 +117,7 @@ def strategies_part():
             for label, (strat,) in variants.items():
                 t0 = time.perf_counter()
                 out = step2.run(P, sol, restarts=bool(strat), strategies=strat)
-                found[label] = (out["alpha"] if out["ok"] else None, time.perf_counter() - t0)
+                found[label] = (out.alpha if out.ok else None, time.perf_counter() - t0)
             ub = min([a for a, _ in found.values() if a is not None] + [sol.alpha])
             g = milp.global_minimum(P, ub, time_limit=120)
             for label, (a, t) in found.items():
@@ -143,11 +143,11 @@ def domes_part():
         t0 = time.perf_counter()
         out = step2.run(P, sol)  # with the default budget, as limit solve runs it
         t = time.perf_counter() - t0
-        runs = [r for r in out["runs"] if "not_run" not in r]
+        runs = [r for r in out.runs if "not_run" not in r]
         ok = [r for r in runs if r.get("verified")]
-        rows.append({"dome": f"{m} x {k}", "blocks": P.scene.n_blocks, "unknowns": out["N"].n, "lp_solver": sol.solver,
-                     "alpha_lp": sol.alpha, "alpha": out["alpha"] if out["ok"] else None, "verified": out["ok"],
-                     "stage": _stage(out["start"]) if out["ok"] else "", "runs": len(runs), "runs_verified": len(ok),
+        rows.append({"dome": f"{m} x {k}", "blocks": P.scene.n_blocks, "unknowns": out.N.n, "lp_solver": sol.solver,
+                     "alpha_lp": sol.alpha, "alpha": out.alpha if out.ok else None, "verified": out.ok,
+                     "stage": _stage(out.start) if out.ok else "", "runs": len(runs), "runs_verified": len(ok),
                      "stages_run": ", ".join(dict.fromkeys(_stage(r.get("start", "")) for r in runs)), "time_s": t})
         print(f"dome {m}x{k}: lp {sol.alpha:.5f} step 2 {rows[-1]['alpha']} from {rows[-1]['stage']} "
               f"({len(ok)}/{len(runs)} runs verified, {t:.1f} s)", flush=True)

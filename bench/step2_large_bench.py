@@ -50,14 +50,14 @@ def one(n, dim) -> dict:
     t = time.perf_counter()
     big = step2_large.solve(P, sol, time_budget=BUDGET)
     row = {"dim": dim, "blocks": P.n_dof // P.scene.ndof, "alpha_lp": sol.alpha, "lp_s": lp_s,
-           "alpha": big.get("alpha") if big["ok"] else None, "alpha_worst": big.get("alpha_worst"),
-           "verified": big["ok"], "time_s": time.perf_counter() - t, "starts": len(big["starts"]),
-           "n_verified": big.get("n_verified", 0), "workers": big.get("workers"),
-           "iterations": sum(r.get("iterations", 0) for r in big["starts"]), "reason": big.get("reason", "")}
+           "alpha": big.alpha if big.ok else None, "alpha_worst": big.alpha_worst,
+           "verified": big.ok, "time_s": time.perf_counter() - t, "starts": len(big.starts),
+           "n_verified": big.n_verified or 0, "workers": big.workers,
+           "iterations": sum(r.get("iterations", 0) for r in big.starts), "reason": big.reason}
     if dim == 2 and n <= COMPARE_MAX:
         t = time.perf_counter()
         today = step2.run(P, sol)
-        row.update(today_alpha=today.get("alpha") if today["ok"] else None, today_s=time.perf_counter() - t)
+        row.update(today_alpha=today.alpha if today.ok else None, today_s=time.perf_counter() - t)
     row["auto_alpha"] = auto_alpha(row, P.n_dof // P.scene.ndof)
     print(f"step2-large {dim}D {row['blocks']:6d} blocks LP {sol.alpha:.5f} route {row['alpha']} "
           f"({row['time_s']:.1f} s, {row['n_verified']}/{row['starts']} starts verified) "

@@ -14,6 +14,7 @@ from limit import settings
 from limit.solve.status import ANSWERED, Status
 from limit.solve import iterative_lp, lpsub, mechanism, milp, nlp, nlp_starts, step2_large
 from limit.solve.nlp_problem import build
+from limit.solve.outcome import RouteOutcome
 from limit.results.result_parts import interfaces_part, ties_part
 from limit.results.typed import StepResult
 
@@ -27,8 +28,8 @@ FROM_SETTINGS = "settings"
 
 def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto", seed: int = 0,
         restarts: bool = True, strategies=ALL_STRATEGIES, time_budget: float | None | str = FROM_SETTINGS,
-        verified_elsewhere: bool = False) -> dict:
-    """Solve step 2 from the given start; returns the raw outcome (not yet the result part).
+        verified_elsewhere: bool = False) -> RouteOutcome:
+    """Solve step 2 from the given start; returns its :class:`RouteOutcome` (not yet the result part).
 
     From the LP start the primary solver (SLSQP up to the setting ``slsqp_max_vars`` unknowns,
     SLA otherwise) runs first. With ``restarts`` the SLA also runs from the same start with
@@ -62,8 +63,8 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
     if start == "lp":
         z0, why = nlp.phase1(N, nlp_starts.lp_start(N, lp_sol), backend)
         if z0 is None:
-            return {"ok": False, "reason": f"no non-associative mechanism from the LP start ({why})",
-                    "solver": solver, "time_s": time.perf_counter() - t0, "runs": []}
+            return RouteOutcome(False, reason=f"no non-associative mechanism from the LP start ({why})",
+                                solver=solver, time_s=time.perf_counter() - t0)
         label = "lp"
     else:
         z0, label = nlp_starts.arbitrary_start(N, seed), "arbitrary"
@@ -130,9 +131,8 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
         if best is None or (ok, -zf[N.ia]) > (best[1], -best[0][N.ia]):
             best = (zf, ok, res, why, run)
     zf, ok, res, why, run = best
-    return {"ok": ok, "z": zf, "N": N, "alpha": float(zf[N.ia]), "alpha_raw": run["alpha_raw"], "residuals": res,
-            "reason": why, "notes": run["notes"], "solver": run["solver"], "start": run["start"], "backend": backend,
-            "runs": runs, "time_s": time.perf_counter() - t0}
+    return RouteOutcome(ok, float(zf[N.ia]), zf, N, why, runs, time.perf_counter() - t0, run["alpha_raw"], res,
+                        run["notes"], run["solver"], run["start"], backend)
 
 
 def _vertex_plan(P, N, lp_sol, backend, runs) -> list:
@@ -171,12 +171,12 @@ def _coarse_plan(P, N, solver, backend, seed, strategies, hard, runs) -> list:
     budget = None if hard is None else max(hard - time.perf_counter(), 1.0) / settings.of(P).hard_factor
     out = run(Pc, lp_c, solver="auto", backend="auto", seed=seed,  # chosen by the coarse model's size
               strategies=tuple(s for s in strategies if s != "coarse"), time_budget=budget)
-    entry = {"start": label, "solver": "coarse", "alpha": out.get("alpha"), "verified": out["ok"],
-             "reason": out.get("reason", ""), "time_s": time.perf_counter() - t0}
+    entry = {"start": label, "solver": "coarse", "alpha": out.alpha, "verified": out.ok,
+             "reason": out.reason, "time_s": time.perf_counter() - t0}
     runs.append(entry)
-    if not out["ok"]:
+    if not out.ok:
         return []
-    z0 = nlp_starts.transfer(N, out["N"], out["z"], backend)
+    z0 = nlp_starts.transfer(N, out.N, out.z, backend)
     if z0 is None:
         entry["reason"] = "its point has no mechanism with this model's faces"
         return []
@@ -240,31 +240,30 @@ def step2(P, lp_sol, method: str = "auto", solver: str = "auto", backend: str = 
     else:  # the large route first: with its point verified, the successive LP keeps to the budget
         alt = _large(P, lp_sol, time_budget) if solver == "auto" and st.also_iterative else None
         out = run(P, lp_sol, solver=solver, start="lp", backend=backend, time_budget=time_budget,
-                  verified_elsewhere=alt is not None and alt["ok"])
+                  verified_elsewhere=alt is not None and alt.ok)
         if alt is not None:
-            if prefer_large(out["alpha"] if out["ok"] else None, alt["alpha"] if alt["ok"] else None, st.lower_by):
-                large, out = True, {**alt, "runs": out.get("runs", []) + alt["runs"]}
+            if prefer_large(out.alpha if out.ok else None, alt.alpha if alt.ok else None, st.lower_by):
+                large, out = True, alt.replace(runs=out.runs + alt.runs)
             else:
-                out = {**out, "runs": out.get("runs", []) + alt["runs"]}
-    details = {"solver": out.get("solver"), "start": out.get("start", "lp"),
-               "route": "iterative-lp" if large else "successive-lp"}
+                out = out.replace(runs=out.runs + alt.runs)
+    details = {"solver": out.solver, "start": out.start or "lp", "route": "iterative-lp" if large else "successive-lp"}
     if large:
-        details.update({k: out.get(k) for k in ("alpha_best", "alpha_worst", "n_verified", "workers")},
-                       n_starts=len(out.get("starts", [])))
-    if not out["ok"] and "alpha" in out:
-        details["alpha_rejected"] = out["alpha"]
-    if "residuals" in out:
-        details.update(verification=out["residuals"], alpha_before_polish=out["alpha_raw"], notes=out["notes"])
-    details["runs"] = out.get("runs", [])
-    point = _point_part(P, out["N"], out["z"]) if out["ok"] else {}
-    part = StepResult(Status.OPTIMAL if out["ok"] else Status.FAILED, out["alpha"] if out["ok"] else None,
-                      time.perf_counter() - t0, "" if out["ok"] else out["reason"], point.pop("mechanism", None),
+        details.update(alpha_best=out.alpha_best, alpha_worst=out.alpha_worst, n_verified=out.n_verified,
+                       workers=out.workers, n_starts=len(out.starts))
+    if not out.ok and out.alpha is not None:
+        details["alpha_rejected"] = out.alpha
+    if out.residuals is not None:
+        details.update(verification=out.residuals, alpha_before_polish=out.alpha_raw, notes=out.notes)
+    details["runs"] = out.runs
+    point = _point_part(P, out.N, out.z) if out.ok else {}
+    part = StepResult(Status.OPTIMAL if out.ok else Status.FAILED, out.alpha if out.ok else None,
+                      time.perf_counter() - t0, "" if out.ok else out.reason, point.pop("mechanism", None),
                       {**details, **point})
     if arbitrary and small:
         arb = run(P, lp_sol, solver=solver, start="arbitrary", backend=backend, restarts=False)
-        part = part.updated(alpha_arbitrary_start=arb.get("alpha") if arb.get("ok") else None,
-                            arbitrary_start_status="optimal" if arb.get("ok") else f"failed: {arb.get('reason')}")
-    part = _independent(P, lp_sol, part, part.alpha if out["ok"] else lp_sol.alpha, global_check, iterative,
+        part = part.updated(alpha_arbitrary_start=arb.alpha if arb.ok else None,
+                            arbitrary_start_status="optimal" if arb.ok else f"failed: {arb.reason}")
+    part = _independent(P, lp_sol, part, part.alpha if out.ok else lp_sol.alpha, global_check, iterative,
                         global_time_limit)
     if dem_state is not None:
         part, _ = adopt_dem_state(P, lp_sol, part, dem_state)
@@ -331,14 +330,13 @@ def lower(candidate: float | None, current: float | None, by: float = settings.D
     return current is None or candidate < current - by * abs(current)
 
 
-def _large(P, lp_sol, time_budget, hard_budget=None) -> dict:
-    """The large-scale route's outcome in :func:`run`'s layout (``hard_budget``: see
+def _large(P, lp_sol, time_budget, hard_budget=None) -> RouteOutcome:
+    """The large-scale route's outcome with :func:`run`'s runs and notes (``hard_budget``: see
     :func:`limit.solve.step2_large.solve`)."""
     out = step2_large.solve(P, lp_sol, time_budget=time_budget, hard_budget=hard_budget)
-    runs = [dict(r, solver="iterative-lp") for r in out.get("starts", [])]
-    return {**out, "solver": "iterative-lp", "runs": runs, "alpha_raw": out.get("alpha"),
-            "notes": [f"iterative LP (ipm) from {len(runs)} start(s), snapped by the piece LP"],
-            "alpha": out.get("alpha")}
+    runs = [dict(r, solver="iterative-lp") for r in out.starts]
+    return out.replace(solver="iterative-lp", runs=runs, alpha_raw=out.alpha,
+                       notes=[f"iterative LP (ipm) from {len(runs)} start(s), snapped by the piece LP"])
 
 
 def _point_part(P, N, z) -> dict:

@@ -77,7 +77,7 @@ def test_step2_reports_a_negative_verified_alpha_as_infeasible(monkeypatch):
 
     def negated(*a, **k):  # the real point, its alpha made negative
         r = real(*a, **k)
-        return {**r, "alpha": -0.1} if r.get("ok") else r
+        return r.replace(alpha=-0.1) if r.ok else r
     monkeypatch.setattr(step2, "run", negated)
     P = assemble(load_scene(B.side_by_side(dim=2, mu=0.5)))
     sol, _, _ = solve_lp(P)

@@ -22,6 +22,7 @@ from limit.cli import main
 from limit.model.assemble import assemble
 from limit.model.scene import load_scene
 from limit.solve import dem_start, verify
+from limit.solve.outcome import RouteOutcome
 from scenes import builders as B
 
 B1, H1, B2, H2 = 0.2, 1.0, 0.5, 0.6
@@ -87,7 +88,7 @@ def test_the_dem_state_becomes_step2s_answer_where_step2_finds_nothing(monkeypat
     P, sol = _setup(2)
 
     def fail(*a, **k):
-        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+        return RouteOutcome(False, reason="stand-in: no verified point")
     monkeypatch.setattr(step2, "run", fail)
     monkeypatch.setattr(step2, "_large", fail)
     res = step2.step2(P, sol, method="nlp", dem_state={"displacement": _mechanism(2), "source": "yade"})
@@ -125,7 +126,7 @@ def test_an_adopted_dem_state_is_a_valid_result_file(monkeypatch):
     from limit import jsonio
 
     def fail(*a, **k):
-        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+        return RouteOutcome(False, reason="stand-in: no verified point")
     monkeypatch.setattr(step2, "run", fail)
     monkeypatch.setattr(step2, "_large", fail)
     res = analyse(load_scene(B.side_by_side(dim=3, mu=0.5)), method="nlp",

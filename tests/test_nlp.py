@@ -9,6 +9,7 @@ from limit.model.assemble import assemble
 from limit.solve.nlp_problem import build
 from limit.model.scene import load_scene
 from limit.model.yield_domain import TWIST
+from limit.solve.outcome import RouteOutcome
 from scenes import builders as B
 
 
@@ -96,7 +97,7 @@ def test_skip_rule_runs_nlp_when_the_lp_point_fails_the_frictional_check(monkeyp
 def _step2_routes_fail(monkeypatch):
     """Stand-ins for both local routes of step 2 (successive and iterative LP): no verified point."""
     def fail(*a, **k):
-        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+        return RouteOutcome(False, reason="stand-in: no verified point")
     monkeypatch.setattr(step2, "run", fail)
     monkeypatch.setattr(step2, "_large", fail)
 
@@ -151,7 +152,7 @@ def test_no_twisting_unknowns_in_2d():
 def test_check_rejects_a_corrupted_solution():
     P, sol = setup(B.side_by_side(dim=2, mu=0.5))
     out = step2.run(P, sol)
-    N, z = out["N"], out["z"]
+    N, z = out.N, out.z
     ok, _, _ = nlp.check(N, z, sol.alpha)
     assert ok
     bad = z.copy()
@@ -190,13 +191,13 @@ def test_lp_start_beats_arbitrary_start():
     from the LP start it reaches the global minimum (checked by the MILP)."""
     P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
     best = step2.run(P, sol)
-    g = milp.global_minimum(P, best["alpha"])
+    g = milp.global_minimum(P, best.alpha)
     assert g.status == "optimal"
-    assert best["ok"] and best["alpha"] == pytest.approx(g.alpha, rel=1e-6)
+    assert best.ok and best.alpha == pytest.approx(g.alpha, rel=1e-6)
     outcomes = []
     for seed in range(4):
         arb = step2.run(P, sol, solver="slsqp", start="arbitrary", seed=seed, restarts=False)
-        outcomes.append(arb["alpha"] if arb["ok"] else None)
+        outcomes.append(arb.alpha if arb.ok else None)
     # every arbitrary start fails its check or ends more than 10 % above the global minimum
     assert all(a is None or a > 1.1 * g.alpha for a in outcomes), outcomes
 
@@ -206,8 +207,8 @@ def test_nlp_never_above_lp_and_problem_shapes():
     out = step2.run(P, sol)
     N = build(P)
     assert N.n == 1 + P.model.n_x + P.n_dof + P.model.n_faces
-    assert out["ok"]
-    assert out["alpha"] <= sol.alpha + 1e-9
+    assert out.ok
+    assert out.alpha <= sol.alpha + 1e-9
 
 
 def test_iterative_lp_on_pure_sliding_block():
@@ -237,14 +238,14 @@ def test_time_budget_stops_restarts_but_keeps_a_verified_answer():
     reaches 5/14, the MILP's global minimum in test_wall_that_opens_while_it_slides)."""
     P, sol = setup(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.4, mu=1.2))
     out = step2.run(P, sol, time_budget=1e-9)
-    assert out["ok"] and out["alpha"] <= sol.alpha * (1 + 1e-9)
-    done = [r for r in out["runs"] if not r.get("not_run")]
-    skipped = [r for r in out["runs"] if r.get("not_run")]
+    assert out.ok and out.alpha <= sol.alpha * (1 + 1e-9)
+    done = [r for r in out.runs if not r.get("not_run")]
+    skipped = [r for r in out.runs if r.get("not_run")]
     assert len(done) == 1 and len(skipped) == 1 and "time budget" in skipped[0]["reason"]
     full = step2.run(P, sol, time_budget=None)
-    assert len(full["runs"]) == len(done) + skipped[0]["not_run"]
-    assert full["alpha"] == pytest.approx(5 / 14, rel=1e-4)
-    assert full["alpha"] <= out["alpha"] + 1e-9
+    assert len(full.runs) == len(done) + skipped[0]["not_run"]
+    assert full.alpha == pytest.approx(5 / 14, rel=1e-4)
+    assert full.alpha <= out.alpha + 1e-9
 
 
 def test_sla_direction_cost_never_negative_on_a_multiplier():

@@ -89,8 +89,8 @@ def test_the_same_minimum_as_the_simplex_or_no_answer_where_it_has_none(dim):
     P, sol = _solved(B.running_bond_wall(4, 4, dim=dim, L=0.4, H=0.3, mu=0.9))
     N = build(P)
     out = step2_large.solve(P, sol, workers=1)
-    assert out["ok"]
-    sets = [nlp.flowing_faces(N, out["z"], rule) for rule in ("support", "ratio")] + [_lp_flows(P, sol)]
+    assert out.ok
+    sets = [nlp.flowing_faces(N, out.z, rule) for rule in ("support", "ratio")] + [_lp_flows(P, sol)]
     rng = np.random.default_rng(0)
     sets += [rng.random(P.model.n_faces) < frac for frac in (0.02, 0.05, 0.1, 0.2) for _ in range(3)]
     answered = unanswered = 0
@@ -115,8 +115,8 @@ def test_the_snap_with_it_passes_the_independent_check():
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     N = build(P)
     out = step2_large.solve(P, sol, workers=1)
-    zp, why, infeasible, diverged = step2_large.snap(N, out["z"], "support", "ipm")
+    zp, why, infeasible, diverged = step2_large.snap(N, out.z, "support", "ipm")
     assert zp is not None and not infeasible and not diverged, why
     ok, _, reason = nlp.check(N, zp, sol.alpha)
     assert ok, reason
-    assert zp[N.ia] == pytest.approx(out["alpha"], abs=1e-7)
+    assert zp[N.ia] == pytest.approx(out.alpha, abs=1e-7)

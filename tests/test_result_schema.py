@@ -9,6 +9,7 @@ import fastjsonschema
 import pytest
 
 from limit.cli import main
+from limit.solve.outcome import RouteOutcome
 from scenes.catalog import CATALOG_DIR
 
 #: (scene, extra options, LP status, NLP status or None when step 2 did not run)
@@ -88,7 +89,7 @@ def test_a_result_whose_answer_is_the_milp_point_validates(tmp_path, monkeypatch
     from limit import step2
 
     def fail(*a, **k):
-        return {"ok": False, "reason": "stand-in: no verified point", "runs": []}
+        return RouteOutcome(False, reason="stand-in: no verified point")
     monkeypatch.setattr(step2, "run", fail)
     monkeypatch.setattr(step2, "_large", fail)
     path = tmp_path / "r.json"

@@ -71,8 +71,8 @@ def test_feasible_exactly_where_the_flow_lp_on_every_dof_is(dim):
     N = build(P)
     rng = np.random.default_rng(7)
     out = step2_large.solve(P, sol, workers=1)
-    assert out["ok"]
-    sets = [nlp.flowing_faces(N, out["z"], "ratio"), _lp_flows(P, sol), np.ones(P.model.n_faces, bool)]
+    assert out.ok
+    sets = [nlp.flowing_faces(N, out.z, "ratio"), _lp_flows(P, sol), np.ones(P.model.n_faces, bool)]
     sets += [rng.random(P.model.n_faces) < p for p in (0.05, 0.2, 0.5, 0.8) for _ in range(3)]
     agree = []
     for flows in sets:

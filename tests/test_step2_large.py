@@ -18,6 +18,7 @@ import pytest
 from limit import step2
 from limit.settings import DEFAULT
 from limit.solve import nlp, step2_large
+from limit.solve.outcome import RouteOutcome
 from limit.analysis import analyse, solve_lp
 from limit.model.assemble import assemble
 from limit.model.scene import load_scene
@@ -40,8 +41,8 @@ def test_confined_block_from_an_unbounded_lp(b, h, mu):
     P, sol = _solved(B.confined_block(2, b=b, h=h, mu=mu))
     assert sol.status == "unbounded"
     out = step2_large.solve(P, sol)
-    assert out["ok"] and out["starts"][0]["start"] == "dead-load"
-    assert out["alpha"] == pytest.approx(B.confined_block_alpha(b, h, mu), rel=1e-6)
+    assert out.ok and out.starts[0]["start"] == "dead-load"
+    assert out.alpha == pytest.approx(B.confined_block_alpha(b, h, mu), rel=1e-6)
 
 
 def test_confined_block_3d_through_analyse():
@@ -67,8 +68,8 @@ def test_side_by_side_matches_the_closed_form_and_the_successive_lp():
     P, sol = _solved(data)
     big = step2_large.solve(P, sol)
     sla = step2.step2(P, sol)
-    assert big["ok"] and big["alpha"] == pytest.approx(23 / 61, rel=1e-6)
-    assert sla["alpha"] == pytest.approx(big["alpha"], rel=1e-6)
+    assert big.ok and big.alpha == pytest.approx(23 / 61, rel=1e-6)
+    assert sla["alpha"] == pytest.approx(big.alpha, rel=1e-6)
 
 
 @pytest.mark.slow  # about 4 s: the large route and the MILP on a small wall
@@ -80,9 +81,9 @@ def test_small_wall_agrees_with_the_global_minimum():
     P, sol = _solved(B.running_bond_wall(3, 2, dim=2, L=0.4, H=0.3, mu=0.9))
     big = step2_large.solve(P, sol)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)
-    assert g.status == "optimal" and big["ok"]
-    assert big["alpha_worst"] >= g.alpha - 1e-7
-    assert big["alpha"] == pytest.approx(g.alpha, rel=1e-6)
+    assert g.status == "optimal" and big.ok
+    assert big.alpha_worst >= g.alpha - 1e-7
+    assert big.alpha == pytest.approx(g.alpha, rel=1e-6)
 
 
 def test_a_failed_check_is_failed_never_a_number(monkeypatch):
@@ -161,10 +162,10 @@ def test_large_walls_run_one_round_of_starts(monkeypatch):
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     _set(monkeypatch, P, one_round_min_free=5)
     out = step2_large.solve(P, sol, workers=1)
-    assert [r["start"] for r in out["starts"]] == ["lp"] and out["starts"][0]["iterations"] > 0
+    assert [r["start"] for r in out.starts] == ["lp"] and out.starts[0]["iterations"] > 0
     _set(monkeypatch, P, one_round_min_free=10 ** 6)
     out = step2_large.solve(P, sol, workers=1)
-    assert [r["start"] for r in out["starts"]] == ["lp", "lp-mu*0.5", "lp-mu*0.25"] and out["ok"]
+    assert [r["start"] for r in out.starts] == ["lp", "lp-mu*0.5", "lp-mu*0.25"] and out.ok
 
 
 @pytest.mark.slow  # about 20 s: the large route twice on a 3D wall
@@ -177,10 +178,10 @@ def test_a_3d_wall_whose_lp_stalls_near_its_optimum_still_verifies(monkeypatch):
 
     P, sol = _solved(B.running_bond_wall(4, 3, dim=3, mu=0.7))
     out = step2_large.solve(P, sol, workers=1)
-    assert out["ok"] and out["n_verified"] == 3 and out["alpha"] == pytest.approx(0.7, abs=1e-9)
+    assert out.ok and out.n_verified == 3 and out.alpha == pytest.approx(0.7, abs=1e-9)
     monkeypatch.setattr(iterative_lp, "ITERATIVE_ALMOST", None)
     out = step2_large.solve(P, sol, workers=1)
-    assert not out["ok"] and "not converged" in out["reason"]
+    assert not out.ok and "not converged" in out.reason
 
 
 def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
@@ -213,8 +214,8 @@ def test_starts_in_parallel_give_what_they_give_one_after_another():
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     one = step2_large.solve(P, sol, workers=1)
     two = step2_large.solve(P, sol, workers=2)
-    assert one["workers"] == 1 and two["workers"] == 2
-    assert [r["alpha"] for r in one["starts"]] == pytest.approx([r["alpha"] for r in two["starts"]], rel=1e-9)
+    assert one.workers == 1 and two.workers == 2
+    assert [r["alpha"] for r in one.starts] == pytest.approx([r["alpha"] for r in two.starts], rel=1e-9)
 
 
 @pytest.mark.parametrize("dim,warm", [(2, True), (3, False)])
@@ -252,9 +253,9 @@ def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
     _set(monkeypatch, P, **{threshold: 1})
     big = step2_large.solve(P, sol, workers=1)
     g = milp.global_minimum(P, sol.alpha, time_limit=300)
-    assert g.status == "optimal" and big["ok"]
-    assert big["alpha_worst"] >= g.alpha - 1e-7
-    assert big["alpha"] == pytest.approx(g.alpha, rel=1e-6)
+    assert g.status == "optimal" and big.ok
+    assert big.alpha_worst >= g.alpha - 1e-7
+    assert big.alpha == pytest.approx(g.alpha, rel=1e-6)
     return seen, big
 
 
@@ -276,7 +277,7 @@ def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(m
     are those at 0.5 mu and 0.4 mu."""
     seen, big = _forced_on_a_small_wall(monkeypatch, "very_large_min_free", nlp, "finish", "rules")
     assert seen and all(r == ("ratio", "support", "least-slack") for r in seen)
-    assert [r["start"] for r in big["starts"]] == ["lp-mu*0.5", "lp-mu*0.4"]
+    assert [r["start"] for r in big.starts] == ["lp-mu*0.5", "lp-mu*0.4"]
 
 
 @pytest.mark.parametrize("grace", [0.0, 0.25])
@@ -311,24 +312,24 @@ def test_small_scenes_keep_the_lower_of_the_two_routes(monkeypatch):
     0.570752: the setting also_iterative.)"""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     big = step2_large.solve(P, sol, workers=1)
-    assert big["ok"]
+    assert big.ok
 
     def stand_in(alpha, ok=True):
         def run(*a, **k):
-            return {"ok": ok, "z": big["z"], "N": big["N"], "alpha": alpha, "alpha_raw": alpha,
-                    "residuals": big["residuals"], "reason": "" if ok else "forced", "notes": ["stand-in"],
-                    "solver": "sla", "start": "lp", "runs": [{"start": "lp", "solver": "sla", "alpha": alpha}]}
+            return RouteOutcome(ok, alpha, big.z, big.N, "" if ok else "forced",
+                                [{"start": "lp", "solver": "sla", "alpha": alpha}], alpha_raw=alpha,
+                                residuals=big.residuals, notes=["stand-in"], solver="sla", start="lp")
         return run
 
-    cases = [(big["alpha"], True, "successive-lp", big["alpha"]),  # not lower: the successive LP's stands
-             (big["alpha"] + 0.05, True, "iterative-lp", big["alpha"]),  # lower: taken
-             (big["alpha"] + 0.05, False, "iterative-lp", big["alpha"])]  # the successive LP failed
+    cases = [(big.alpha, True, "successive-lp", big.alpha),  # not lower: the successive LP's stands
+             (big.alpha + 0.05, True, "iterative-lp", big.alpha),  # lower: taken
+             (big.alpha + 0.05, False, "iterative-lp", big.alpha)]  # the successive LP failed
     for alpha, ok, route, expected in cases:
         monkeypatch.setattr(step2, "run", stand_in(alpha, ok))
         part = step2.step2(P, sol, method="nlp")
         assert part["route"] == route and part["status"] == "optimal"
         assert part["alpha"] == pytest.approx(expected, abs=1e-12)
-        assert [r["solver"] for r in part["runs"]] == ["sla"] + ["iterative-lp"] * len(big["starts"])
+        assert [r["solver"] for r in part["runs"]] == ["sla"] + ["iterative-lp"] * len(big.starts)
     _set(monkeypatch, P, also_iterative=False)
     part = step2.step2(P, sol, method="nlp")
     assert part["route"] == "successive-lp" and [r["solver"] for r in part["runs"]] == ["sla"]
@@ -342,7 +343,7 @@ def test_the_bench_auto_column_is_what_step2_keeps():
     from bench.step2_large_bench import auto_alpha
 
     P, sol = _solved(B.running_bond_wall(4, 3, dim=2, L=0.4, H=0.3, mu=0.9))
-    row = {"alpha": step2_large.solve(P, sol)["alpha"], "today_alpha": step2.run(P, sol)["alpha"]}
+    row = {"alpha": step2_large.solve(P, sol).alpha, "today_alpha": step2.run(P, sol).alpha}
     part = step2.step2(P, sol, method="nlp")
     assert part["status"] == "optimal"
     assert auto_alpha(row, P.n_dof // P.scene.ndof) == pytest.approx(part["alpha"], abs=1e-9)
@@ -386,12 +387,12 @@ def test_a_wall_whose_statics_stay_degenerate_verifies_by_the_least_slack_snap()
     P, sol = _solved(wall(length=7.5, height=4.0, unit=(0.25, 0.12, 0.1), mu=0.7))
     assert P.n_dof // P.scene.ndof == 1220
     out = step2_large.solve(P, sol, factors=(1.0,), workers=1)
-    assert out["ok"], out["reason"]
-    run = out["starts"][0]
+    assert out.ok, out.reason
+    run = out.starts[0]
     assert run["verified"] and "least-slack" in run["how"], run
-    ok, res, why = nlp.check(out["N"], out["z"], sol.alpha)
+    ok, res, why = nlp.check(out.N, out.z, sol.alpha)
     assert ok, why
-    assert out["alpha"] < sol.alpha * (1 - 1e-3)
+    assert out.alpha < sol.alpha * (1 - 1e-3)
 
 
 def test_without_a_verified_point_the_large_route_goes_on_to_the_hard_budget(monkeypatch):
@@ -412,7 +413,7 @@ def test_a_start_that_verifies_after_the_budget_stops_the_others():
     start runs, for a lower point."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     late = step2_large.solve(P, sol, time_budget=1e-6, hard_budget=600.0, workers=1)
-    assert late["ok"] and late["starts"][0]["verified"]
-    assert len(late["starts"]) == 3 and all(r.get("not_run") for r in late["starts"][1:])
+    assert late.ok and late.starts[0]["verified"]
+    assert len(late.starts) == 3 and all(r.get("not_run") for r in late.starts[1:])
     early = step2_large.solve(P, sol, time_budget=600.0, hard_budget=600.0, workers=1)
-    assert early["ok"] and all(r["iterations"] > 0 for r in early["starts"])
+    assert early.ok and all(r["iterations"] > 0 for r in early.starts)

@@ -41,10 +41,10 @@ def test_family_member_4_verifies():
     P = assemble(load_scene(sc))
     sol, _, _ = solve_lp(P)
     out = step2_large.solve(P, sol)
-    assert out["ok"], out["reason"]
-    ok, _, why = nlp.check(out["N"], out["z"], sol.alpha)
+    assert out.ok, out.reason
+    ok, _, why = nlp.check(out.N, out.z, sol.alpha)
     assert ok, why
-    assert out["alpha"] < sol.alpha * (1 - 1e-3)
+    assert out.alpha < sol.alpha * (1 - 1e-3)
 
 
 def test_the_dem_family_meets_every_kind_within_its_size_range():

@@ -56,6 +56,7 @@ from limit import settings
 from limit.solve.status import IterativeStatus, Status
 from limit.solve import iterative_lp, lpsub, nlp, nlp_starts, piece_statics, rigid_clusters
 from limit.solve.nlp_problem import build
+from limit.solve.outcome import RouteOutcome
 
 log = logging.getLogger(__name__)
 
@@ -429,14 +430,14 @@ def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=N
 
 
 def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: int | None = None,
-          hard_budget: float | None = None) -> dict:
+          hard_budget: float | None = None) -> RouteOutcome:
     """The large-scale route of step 2: every start run (until the budget is spent), the
     lowest verified alpha kept. ``workers``: processes for the starts (default: one per core,
     at most one per start; 1 runs them one after another). ``hard_budget`` (s, above
     ``time_budget``; None: the same): while no start has verified, the starts go on past
     ``time_budget`` up to it, and once one verifies after ``time_budget`` the others stop (the
-    successive LP's rule, :func:`limit.step2.run`). Returns {"ok", "alpha", "z", "N", "starts":
-    [per start], "residuals", "reason", "time_s", "workers"}."""
+    successive LP's rule, :func:`limit.step2.run`). Returns its :class:`RouteOutcome` (``starts``:
+    one entry per start; the best verified point's ``alpha``, ``z``, ``start``, ``residuals``)."""
     import os
 
     t0 = time.perf_counter()
@@ -457,8 +458,8 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     else:
         plan = starts(P, lp_sol, factors)
     if not plan:
-        return {"ok": False, "reason": "no start: the dead load alone has no equilibrium", "starts": [],
-                "time_s": time.perf_counter() - t0, "N": N, "workers": 0}
+        return RouteOutcome(False, N=N, reason="no start: the dead load alone has no equilibrium",
+                            time_s=time.perf_counter() - t0, workers=0)
     workers = min(len(plan), cores)
     log.info("step 2, large-scale route: %d start(s) (%s) on %d process(es)", len(plan),
              ", ".join(label for label, _ in plan), workers)
@@ -485,11 +486,12 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
                  r.get("time_s") or 0.0)
         if r["verified"] and (best is None or r["alpha"] < best[0]):
             best = (r["alpha"], r["z"], label)
-    out = {"N": N, "starts": runs, "time_s": time.perf_counter() - t0, "workers": workers}
     if best is None:
-        return {**out, "ok": False, "reason": "no start reached a verified point: "
-                + "; ".join(f"{r['start']}: {r.get('reason')}" for r in runs)}
+        return RouteOutcome(False, N=N, starts=runs, time_s=time.perf_counter() - t0, workers=workers,
+                            reason="no start reached a verified point: "
+                            + "; ".join(f"{r['start']}: {r.get('reason')}" for r in runs))
     ok, res, why = nlp.check(N, best[1], alpha_ref)
     verified = [r["alpha"] for r in runs if r.get("verified")]
-    return {**out, "ok": ok, "alpha": best[0], "z": best[1], "start": best[2], "residuals": res, "reason": why,
-            "alpha_best": min(verified), "alpha_worst": max(verified), "n_verified": len(verified)}
+    return RouteOutcome(ok, best[0], best[1], N, why, starts=runs, time_s=time.perf_counter() - t0,
+                        residuals=res, start=best[2], alpha_best=min(verified), alpha_worst=max(verified),
+                        n_verified=len(verified), workers=workers)
