@@ -34,6 +34,18 @@ def test_every_scene_loads():
         load_scene(p)
 
 
+def test_no_catalog_scene_tunes_or_skips_a_dem_engine_of_its_own():
+    """The DEM stages run every catalog scene with the knobs' rules (dem_validation/params.py,
+    engines/yade/refine.py, the LMGC90 time-step check), as they run a user's scene: no scene
+    carries knobs of its own, and none opts out of an engine (a scene an engine cannot model is
+    skipped by the engine itself, with the reason). ``meta.dem`` and ``meta.lmgc`` hold only the
+    measured costs that order the stages."""
+    own = {p.stem: {stage: sorted(set(spec) - {"cost_s"})}
+           for p in FILES for stage, spec in (json.loads(p.read_text()).get("meta") or {}).items()
+           if stage in ("dem", "lmgc") and set(spec) - {"cost_s"}}
+    assert own == {}
+
+
 @pytest.mark.parametrize("path", catalog_params(WITH_REF))  # a catalog sweep: FAST_CATALOG in the fast subset
 def test_reference_values(path):
     d = json.loads(path.read_text())
