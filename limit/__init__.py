@@ -5,7 +5,8 @@ Data flows one way, through one subpackage per job: the scene file ->
 geometry) -> :mod:`limit.model` (loads, kinematics, yield domain, assembled LP data) ->
 :mod:`limit.solve` (step 1 and step 2, each answer checked) -> :mod:`limit.results` ->
 :mod:`limit.verdict` (the code check, when the scene states a demand). :mod:`limit.analysis`
-runs the whole chain; :mod:`limit.api` wraps it in typed results.
+runs the whole chain and returns the typed result (:mod:`limit.results.typed`); :mod:`limit.api`
+is the public face of it.
 
 The public API::
 
