@@ -3,8 +3,7 @@
 
 Each is a frozen dataclass, made once and never changed: a step's part is revised by making a
 new one (:meth:`StepResult.updated`). The result file (docs/formats.md, 'Result file') is
-written from them (:meth:`Result.to_dict`); its content is the same as the plain dicts it
-replaces. A :class:`StepResult` also reads as a read-only mapping of its part of the file
+written from them (:meth:`Result.to_dict`). A :class:`StepResult` also reads as a read-only mapping of its part of the file
 (``part["alpha"]``, ``part.get("runs")``), so code that reads a part's keys reads either.
 """
 from __future__ import annotations

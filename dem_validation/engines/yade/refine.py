@@ -7,11 +7,9 @@ stood where the other collapsed) or collapse at alphas more than ``refine_rtol``
 more run at a quarter of the stiffest eps follows, at most ``refine_max`` of them, and only where
 it *fits*: the CPU spent so far plus the new run's projected CPU, :data:`COST_RATIO` x the
 stiffest run's, stays within ``refine_cpu_s``. A quarter of eps (4 x the stiffness) halves the
-critical time step, so the same simulated time takes twice the steps; on the seven generator
-scenes of the catalog the stiffer of the two default runs took 1.05 to 3.5 times the steps of the
-softer (median 2.1; docs/performance.md). The rule caps the cost of a scene whose compliant model
-does not settle with the stiffness (the 70-stone Fig. 3 wall: its fourth stiffness took over an
-hour of CPU) without a knob per scene.
+critical time step, so the same simulated time takes twice the steps (the measured ratios:
+docs/performance.md, 'YADE's loading path on the 70-stone Fig. 3 wall'). The rule caps the cost
+of a scene whose compliant model does not settle with the stiffness, without a knob per scene.
 """
 from __future__ import annotations
 
