@@ -24,10 +24,10 @@ import yade_model  # noqa: E402
 
 def run_pushovers(job, eps_list, p):
     """(model, runs, refinement): the pushover at every stiffness, each run with its ``cpu_s``.
-    Polyhedra (``contact: polyhedra``): one model, a stiffer run restarts from a softer run's equilibrium. Vertex model (the
-    default): each stiffness has its own sphere radius, so each is a new model loaded from
-    scratch (also one loading path for every stiffness, where friction makes the path matter)
-    whose first load step goes near the softer run's collapse;
+    Polyhedra (``contact: polyhedra``): one model, a stiffer run restarts from a softer run's
+    equilibrium. Vertex model (the default): each stiffness has its own sphere radius, so each is
+    a new model loaded from scratch (also one loading path for every stiffness, where friction
+    makes the path matter) whose first load step goes near the softer run's collapse;
     while the two stiffest runs disagree, one more run at a quarter of the stiffest eps, within
     refine_max and refine_cpu_s (:func:`refine.next_eps`). ``refinement``: why the two stiffest
     runs are left apart (empty where they agree)."""
