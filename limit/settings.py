@@ -5,8 +5,11 @@ unless told otherwise. Each field's metadata gives its group, unit and what it d
 (docs/settings.md lists them; ``limit settings`` prints them). A run takes its settings from
 ``limit.Options(settings=...)`` (a :class:`Settings` or a mapping of the fields to change) or
 from ``limit solve --set NAME=VALUE``; the code reads them from the assembled problem
-(:func:`of`), never from module globals. The algorithms' internal constants (penalty
-schedules, relaxations, snap thresholds) stay in their modules.
+(:func:`of`), never from module globals. The large-scale route's tuned numbers (relaxation,
+snap thresholds, starts) are settings too (group "large"); the other algorithms' internal
+constants (penalty schedules, the interior point method's safeguards) and the large route's
+structural choices (snap rules and backends, the dimensions a rule applies in) stay in their
+modules.
 
 A leaf module: it imports nothing from :mod:`limit`.
 """
@@ -16,12 +19,16 @@ from dataclasses import dataclass, field
 
 #: the groups, in the order they are listed
 GROUPS = {"route": "problem sizes that choose a route or a solver",
+          "large": "step 2's large-scale route (limit.solve.step2_large): relaxation, snap thresholds "
+                   "and starts, each chosen by the measurements in docs/performance.md, 'Step 2 at "
+                   "scale: the measurements behind its constants'",
           "budget": "time budgets",
           "tolerance": "tolerances of the a posteriori checks and of the choices between answers"}
 
 
-def _s(default, group: str, unit: str, doc: str):
-    return field(default=default, metadata={"group": group, "unit": unit, "doc": doc})
+def _s(default, group: str, unit: str, doc: str, zero_ok: bool = False):
+    """A field with its group, unit and meaning; a float must be > 0 (>= 0 with ``zero_ok``)."""
+    return field(default=default, metadata={"group": group, "unit": unit, "doc": doc, "zero_ok": zero_ok})
 
 
 @dataclass(frozen=True)
@@ -56,14 +63,14 @@ class Settings:
     one_round_min_free: int = _s(
         2000, "route", "free blocks",
         "from this many on, the large-scale route runs only as many starts as there are workers, "
-        "with relaxation OMEGA_LARGE (and warm-started LPs in 2D)")
+        "with relaxation large_omega_one_round at most (and warm-started LPs in 2D)")
     very_large_min_free: int = _s(
         5000, "route", "free blocks",
         "from this many on (2D), the large-scale route snaps at lower residuals, 'ratio' rule first, "
         "from the starts at 0.5 mu and 0.4 mu, and its starts stop once one has verified")
     prox_min_free: int = _s(
         5000, "route", "free blocks",
-        "from this many on (2D), each LP of the large-scale route is the proximal QP (step2_large.PROX)")
+        "from this many on (2D), each LP of the large-scale route is the proximal QP (large_prox)")
     direction_starts_deg: int = _s(
         5, "route", "deg",
         "3D scenes loaded by body forces, below large_min_free free blocks: step 2 also runs with the "
@@ -94,6 +101,81 @@ class Settings:
         "(limit.incremental_curve; sliding and mixed mechanisms): the first-order error "
         "against the kinematic-chain follower on portal-2d halves from 20 to 40 steps (2.6e-4 to 1.1e-4 "
         "in alpha) at twice the time (tests/test_incremental_curve.py)")
+
+    # -- large: step 2's large-scale route ---------------------------------------------------
+    large_omega_2d: float = _s(
+        1.0, "large", "-",
+        "relaxation of the iteration on the normal forces, N* <- N* + omega (N - N*), in 2D (halved "
+        "down to large_omega_min whenever the complementarity residual has no new low for large_stall LPs)")
+    large_omega_3d: float = _s(
+        0.5, "large", "-",
+        "the same in 3D (at 1 a 42-block wall oscillated until an LP failed)")
+    large_omega_one_round: float = _s(
+        0.5, "large", "-",
+        "the relaxation at most, from one_round_min_free free blocks on (omega = 1 oscillated at 3,052 and "
+        "10,050 2D blocks)")
+    large_omega_min: float = _s(
+        0.125, "large", "-",
+        "the smallest relaxation; a start with no new low for large_stall LPs there stops as stalled, so "
+        "that its budget goes to the other starts")
+    large_stall: int = _s(
+        8, "large", "LPs",
+        "LPs without a new low of the complementarity residual that halve the relaxation")
+    large_max_iter: int = _s(
+        100, "large", "LPs",
+        "LPs per start at most")
+    large_prox: float = _s(
+        0.03, "large", "-",
+        "proximal weight of each LP from prox_min_free free blocks on, in 2D (limit.solve.iterative_lp's "
+        "prox): the normal forces are pulled toward N* so that the statics stop jumping across a "
+        "degenerate optimal face")
+    large_snap_comp: float = _s(
+        1e-3, "large", "alpha units",
+        "complementarity residual below which the piece LP snaps the iterate to an exactly "
+        "complementary point")
+    large_snap_plateau: float = _s(
+        1e-2, "large", "alpha units",
+        "... and, from the best iterate, when the residual has had no new low for large_plateau LPs "
+        "while that low is below this (and below every earlier snap's)")
+    large_plateau: int = _s(
+        4, "large", "LPs",
+        "LPs without a new low of the residual that make a plateau")
+    large_snap_comp_very_large: float = _s(
+        1e-4, "large", "alpha units",
+        "large_snap_comp from very_large_min_free free blocks on (2D): a failed snap costs there more "
+        "than several LPs")
+    large_snap_plateau_very_large: float = _s(
+        1e-3, "large", "alpha units",
+        "large_snap_plateau from very_large_min_free free blocks on (2D)")
+    large_lp_tol_far: float = _s(
+        1e-4, "large", "-",
+        "the interior point method's tolerance while the residual is above large_far_comp (far from a "
+        "collapse state an exact LP is wasted)")
+    large_far_comp: float = _s(
+        1e-2, "large", "alpha units",
+        "the residual above which LPs are solved to large_lp_tol_far")
+    large_lp_tol_near_2d: float = _s(
+        1e-7, "large", "-",
+        "the tolerance below large_far_comp in 2D (3D: the interior point method's own 1e-9); the snap's "
+        "piece LPs and the check are exact regardless")
+    large_least_slack_support: float = _s(
+        1e-6, "large", "fraction of the largest multiplier",
+        "the snap's 'least-slack' rule: the faces that flow are those whose multiplier in the mechanism "
+        "closest to complementary exceeds this fraction of the largest")
+    large_start_factors: tuple = _s(
+        (1.0, 0.5, 0.25), "large", "x mu",
+        "friction factors of the starts' associative LPs (1: the associative LP itself)")
+    large_start_factors_very_large: tuple = _s(
+        (0.5, 0.4), "large", "x mu",
+        "the starts from very_large_min_free free blocks on (2D), where the associative LP's own start stalls")
+    large_start_factors_one_round_3d: tuple = _s(
+        (0.5, 0.25, 1.0), "large", "x mu",
+        "the starts from one_round_min_free free blocks on in 3D, in order (only as many as there are "
+        "workers run), where the associative LP's own start was the slowest and not the lowest")
+    large_grace: float = _s(
+        0.0, "large", "x the first verified start's time",
+        "from very_large_min_free free blocks on (2D), once a start has verified at t s the others stop "
+        "at t (1 + large_grace): every start that verifies there gives the same alpha", zero_ok=True)
 
     # -- budget: wall-clock limits -----------------------------------------------------------
     nlp_time_budget: float = _s(
@@ -162,6 +244,11 @@ class Settings:
 def _checked(f: dataclasses.Field, v):
     """``v`` as field ``f``'s type, or ValueError naming the field."""
     kind = f.type
+    if kind is tuple:
+        if not isinstance(v, (tuple, list)) or not v or \
+                not all(isinstance(x, (int, float)) and not isinstance(x, bool) and x > 0 for x in v):
+            raise ValueError(f"setting {f.name!r}: expected a non-empty tuple of numbers > 0, got {v!r}")
+        return tuple(float(x) for x in v)
     ok = (isinstance(v, bool) if kind is bool else
           isinstance(v, int) and not isinstance(v, bool) if kind is int else
           isinstance(v, (int, float)) and not isinstance(v, bool))
@@ -169,8 +256,9 @@ def _checked(f: dataclasses.Field, v):
         raise ValueError(f"setting {f.name!r}: expected {kind.__name__}, got {v!r} ({type(v).__name__})")
     if kind is float:
         v = float(v)
-        if not v > 0:
-            raise ValueError(f"setting {f.name!r}: must be > 0, got {v!r}")
+        if not (v >= 0 if f.metadata.get("zero_ok") else v > 0):
+            raise ValueError(f"setting {f.name!r}: must be {'>=' if f.metadata.get('zero_ok') else '>'} 0, "
+                             f"got {v!r}")
     if kind is int and v < 0:
         raise ValueError(f"setting {f.name!r}: must be >= 0, got {v!r}")
     return v
@@ -198,7 +286,7 @@ def resolve(given) -> Settings:
 
 def parse(item: str) -> tuple:
     """(name, value) of a command-line ``NAME=VALUE``, the value read as the field's type
-    (bool: true/false, yes/no, 1/0); ValueError names the key."""
+    (bool: true/false, yes/no, 1/0; tuple: numbers separated by commas); ValueError names the key."""
     key, sep, text = item.partition("=")
     key, text = key.strip(), text.strip()
     if not sep or not key:
@@ -208,7 +296,9 @@ def parse(item: str) -> tuple:
         raise ValueError(f"--set {item!r}: unknown setting {key!r}; valid: {', '.join(fields)}")
     kind = fields[key].type
     try:
-        if kind is bool:
+        if kind is tuple:
+            value = tuple(float(x) for x in text.split(","))
+        elif kind is bool:
             low = text.lower()
             if low not in ("true", "false", "yes", "no", "1", "0"):
                 raise ValueError
@@ -216,7 +306,8 @@ def parse(item: str) -> tuple:
         else:
             value = kind(text)
     except ValueError:
-        raise ValueError(f"--set {item!r}: setting {key!r} takes {kind.__name__}, got {text!r}") from None
+        what = "numbers separated by commas" if kind is tuple else kind.__name__
+        raise ValueError(f"--set {item!r}: setting {key!r} takes {what}, got {text!r}") from None
     return key, value
 
 

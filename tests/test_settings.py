@@ -43,7 +43,7 @@ def test_every_setting_has_a_group_unit_and_meaning():
     for f in fields:
         assert f.metadata["group"] in settings.GROUPS, f.name
         assert f.metadata["unit"] and len(f.metadata["doc"]) > 20, f.name
-        assert f.type in (int, float, bool), f.name
+        assert f.type in (int, float, bool, tuple), f.name
     with pytest.raises(dataclasses.FrozenInstanceError):
         DEFAULT.large_min_free = 1
 
@@ -58,6 +58,34 @@ def test_the_defaults_are_the_values_the_modules_had():
     assert DEFAULT.also_iterative is True and DEFAULT.lower_by == 1e-9
     assert [DEFAULT.tol_eq, DEFAULT.tol_yield, DEFAULT.tol_kin, DEFAULT.tol_gap, DEFAULT.tol_comp] == [1e-6] * 5
     assert DEFAULT.sla_comp_target == 1e-7
+    # step2_large's module constants OMEGA, OMEGA_LARGE, OMEGA_MIN, STALL, MAX_ITER, PROX, SNAP_COMP,
+    # SNAP_PLATEAU, PLATEAU, SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, LP_TOL_FAR, FAR_COMP, LP_TOL_NEAR,
+    # LEAST_SLACK_SUPPORT, START_FACTORS, START_FACTORS_LARGE, START_FACTORS_ONE_ROUND_3D and GRACE
+    assert (DEFAULT.large_omega_2d, DEFAULT.large_omega_3d, DEFAULT.large_omega_one_round,
+            DEFAULT.large_omega_min, DEFAULT.large_stall, DEFAULT.large_max_iter) == (1.0, 0.5, 0.5, 0.125, 8, 100)
+    assert (DEFAULT.large_prox, DEFAULT.large_snap_comp, DEFAULT.large_snap_plateau, DEFAULT.large_plateau,
+            DEFAULT.large_snap_comp_very_large, DEFAULT.large_snap_plateau_very_large) == (0.03, 1e-3, 1e-2, 4, 1e-4, 1e-3)
+    assert (DEFAULT.large_lp_tol_far, DEFAULT.large_far_comp, DEFAULT.large_lp_tol_near_2d,
+            DEFAULT.large_least_slack_support, DEFAULT.large_grace) == (1e-4, 1e-2, 1e-7, 1e-6, 0.0)
+    assert DEFAULT.large_start_factors == (1.0, 0.5, 0.25)
+    assert DEFAULT.large_start_factors_very_large == (0.5, 0.4)
+    assert DEFAULT.large_start_factors_one_round_3d == (0.5, 0.25, 1.0)
+
+
+def test_a_tuple_setting_is_parsed_and_checked():
+    """A tuple setting (the large route's start factors) is given on the command line as numbers
+    separated by commas; an empty tuple, a factor not above 0 or a word is rejected naming it.
+    large_grace alone among the floats may be 0."""
+    assert settings.parse("large_start_factors=0.5, 0.4") == ("large_start_factors", (0.5, 0.4))
+    assert DEFAULT.replace(large_start_factors=[1, 0.5]).large_start_factors == (1.0, 0.5)
+    for bad in ((), (0.5, 0.0), ("a",)):
+        with pytest.raises(ValueError, match="large_start_factors"):
+            DEFAULT.replace(large_start_factors=bad)
+    with pytest.raises(ValueError, match="large_start_factors"):
+        settings.parse("large_start_factors=0.5,x")
+    assert DEFAULT.replace(large_grace=0.0).large_grace == 0.0
+    with pytest.raises(ValueError, match="large_omega_min"):
+        DEFAULT.replace(large_omega_min=0.0)
 
 
 # -- overrides: Options ------------------------------------------------------------------------

@@ -95,24 +95,25 @@ def test_a_failed_check_is_failed_never_a_number(monkeypatch):
 
 def test_a_start_whose_residual_stalls_stops_early(monkeypatch):
     """A start that never reaches a checked point and whose complementarity residual has no
-    new low (forced: 1.0 at every LP) halves its relaxation every STALL LPs down to OMEGA_MIN,
-    then stops as stalled after STALL more, long before MAX_ITER; it is never a number."""
+    new low (forced: 1.0 at every LP) halves its relaxation every large_stall LPs down to
+    large_omega_min, then stops as stalled after large_stall more, long before large_max_iter; it
+    is never a number."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
     (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
     r = step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
     halvings = 0
-    om = step2_large.OMEGA[2]
-    while om > step2_large.OMEGA_MIN:
+    om = DEFAULT.large_omega_2d
+    while om > DEFAULT.large_omega_min:
         om, halvings = om / 2, halvings + 1
     assert not r["verified"] and r["z"] is None and r["reason"].startswith("stalled")
-    assert r["omega"] == step2_large.OMEGA_MIN
-    assert r["iterations"] == (halvings + 1) * step2_large.STALL + 1 < step2_large.MAX_ITER
+    assert r["omega"] == DEFAULT.large_omega_min
+    assert r["iterations"] == (halvings + 1) * DEFAULT.large_stall + 1 < DEFAULT.large_max_iter
 
 
 def test_a_residual_that_stops_falling_is_snapped_from_its_best_iterate(monkeypatch):
-    """Forced residuals 0.5, 5e-3, then 6e-3, 7e-3, ... (rising): never below SNAP_COMP, so
-    only the plateau rule snaps, once (each snap backend asked in turn), PLATEAU LPs after
+    """Forced residuals 0.5, 5e-3, then 6e-3, 7e-3, ... (rising): never below large_snap_comp, so
+    only the plateau rule snaps, once (each snap backend asked in turn), large_plateau LPs after
     the low and from the iterate of the low (the second LP); a later plateau at the same low
     is not snapped again."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
@@ -132,7 +133,7 @@ def test_a_residual_that_stops_falling_is_snapped_from_its_best_iterate(monkeypa
     (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
     r = step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
     assert not r["verified"] and r["reason"].startswith("stalled")
-    assert {k for k, _ in snapped} == {2 + step2_large.PLATEAU} and r["snaps"] == 1
+    assert {k for k, _ in snapped} == {2 + DEFAULT.large_plateau} and r["snaps"] == 1
     assert all(z is seen[1] for _, z in snapped)
 
 
@@ -261,18 +262,19 @@ def _forced_on_a_small_wall(monkeypatch, threshold, module, func, kwarg):
 
 @pytest.mark.slow  # about 3 s: the proximal iteration and the MILP on a small wall
 def test_the_proximal_iteration_reaches_the_global_minimum_of_a_small_wall(monkeypatch):
-    """The proximal iterative LP (PROX, used from prox_min_free free blocks on) forced onto a
+    """The proximal iterative LP (large_prox, used from prox_min_free free blocks on) forced onto a
     small wall (:func:`_forced_on_a_small_wall`): every LP is proximal."""
     from limit.solve import iterative_lp
 
     seen, _ = _forced_on_a_small_wall(monkeypatch, "prox_min_free", iterative_lp, "solve", "prox")
-    assert seen and all(p == step2_large.PROX[2] for p in seen)
+    assert seen and all(p == DEFAULT.large_prox for p in seen)
 
 
 @pytest.mark.slow  # about 2 s: the large route and the MILP on a small wall
 def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(monkeypatch):
-    """The settings of very large walls (SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, "ratio" first, "least-slack" last,
-    START_FACTORS_LARGE; from very_large_min_free free blocks on) forced onto a small wall
+    """The settings of very large walls (large_snap_comp_very_large, large_snap_plateau_very_large,
+    "ratio" first, "least-slack" last, large_start_factors_very_large; from very_large_min_free free
+    blocks on) forced onto a small wall
     (:func:`_forced_on_a_small_wall`): every snap asks for the large walls' rules, and the starts
     are those at 0.5 mu and 0.4 mu."""
     seen, big = _forced_on_a_small_wall(monkeypatch, "very_large_min_free", nlp, "finish", "rules")
@@ -280,18 +282,41 @@ def test_the_large_wall_snap_settings_reach_the_global_minimum_of_a_small_wall(m
     assert [r["start"] for r in big.starts] == ["lp-mu*0.5", "lp-mu*0.4"]
 
 
+def test_the_routes_tuned_numbers_are_read_from_the_settings(monkeypatch):
+    """The large route's starts, relaxation and LP cap come from the problem's settings (group
+    "large"), not from module constants: with large_start_factors (0.5,) only the 0.5 mu start
+    runs; with large_omega_2d 0.25 and large_max_iter 3 that start's first relaxation is 0.25 and
+    it stops after 3 LPs at most."""
+    from limit.solve import iterative_lp
+
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    _set(monkeypatch, P, large_start_factors=(0.5,), large_omega_2d=0.25, large_max_iter=3)
+    omegas, caps = [], []
+    real = iterative_lp.solve
+
+    def spy(*a, **k):
+        omegas.append(k["omega"]())
+        caps.append(k["max_iter"])
+        return real(*a, **k)
+
+    monkeypatch.setattr(iterative_lp, "solve", spy)
+    out = step2_large.solve(P, sol, workers=1)
+    assert [r["start"] for r in out.starts] == ["lp-mu*0.5"]
+    assert omegas == [0.25] and caps == [3] and out.starts[0]["iterations"] <= 3
+
+
 @pytest.mark.parametrize("grace", [0.0, 0.25])
 def test_a_verified_start_stops_the_others_after_the_grace(monkeypatch, grace):
-    """_Stop: a start that verifies t seconds into the route sets the stop time t0 + t (1 + GRACE)
-    (GRACE 0: at once, the default; 0.25: a quarter of its time later); a start past it ends at
+    """_Stop: a start that verifies t seconds into the route sets the stop time t0 + t (1 + grace)
+    (the setting large_grace; 0: at once, the default; 0.25: a quarter of its time later); a start
+    past it ends at
     its next LP, unverified, and says why (never a number)."""
     import time
 
-    monkeypatch.setattr(step2_large, "GRACE", grace)
     P, sol = _solved(B.running_bond_wall(4, 4, dim=2, L=0.4, H=0.3, mu=0.9))
     N = step2_large.build(P)
     t0 = time.perf_counter()
-    stop = step2_large._Stop(t0 - 8.0)
+    stop = step2_large._Stop(t0 - 8.0, grace=grace)
     stop.verified(t0)  # verified 8 s into the route: the others stop 8 grace s later
     assert stop.at() == pytest.approx(t0 + 8.0 * grace, abs=1e-9)
     stop.verified(t0 + 100.0)  # a later one never moves it back

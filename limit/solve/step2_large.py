@@ -6,29 +6,27 @@ scenes whose associative LP has no mechanism):
 
 1. The iterative LP of Gilbert, Casapulla & Ahmed (2006) with the friction
    capacities ``mu N*`` as the right-hand side of :mod:`limit.solve.ipm`
-   (:func:`limit.solve.iterative_lp.solve`, backend "ipm"; relaxation :data:`OMEGA`:
-   in 2D none, omega = 1 settled in 28 LPs on a 45-block wall where 0.5 had
-   not in 60; in 3D 0.5, at 1 a 42-block wall oscillated until an LP failed,
-   at 0.5 it snapped after 22; halved whenever the complementarity residual
-   stalls, :data:`STALL`).
+   (:func:`limit.solve.iterative_lp.solve`, backend "ipm"), N* relaxed by omega (the settings
+   ``large_omega_2d``, ``large_omega_3d``), halved whenever the complementarity residual has no
+   new low for ``large_stall`` LPs.
    Each LP answer is a point of the frictional problem: its statics, and as
    its dual the mechanism with flow ``G lam`` (no dilatancy).
 2. After each LP the point is checked (:func:`limit.solve.nlp.check`); once its
-   complementarity residual is below ``SNAP_COMP`` the piece LP
+   complementarity residual is below ``large_snap_comp`` the piece LP
    (:func:`limit.solve.nlp.polish`: faces that flow keep s = 0, the others lam = 0)
    snaps it to an exactly complementary point, which is checked in turn. A
    failed snap is retried only when the residual has fallen tenfold. A residual
-   that stops falling (no new low for ``PLATEAU`` LPs) below ``SNAP_PLATEAU`` has
+   that stops falling (no new low for ``large_plateau`` LPs) below ``large_snap_plateau`` has
    its best iterate snapped too. From ``very_large_min_free`` free blocks on (2D), both
-   thresholds are lower (``SNAP_COMP_LARGE``, ``SNAP_PLATEAU_LARGE``): a failed snap
-   costs there several LPs.
+   thresholds are lower (``large_snap_comp_very_large``, ``large_snap_plateau_very_large``):
+   a failed snap costs there several LPs.
    From ``prox_min_free`` free blocks on (2D), each LP is the proximal QP of
-   :func:`limit.solve.iterative_lp.solve` (``prox``, :data:`PROX`): the normal forces are
-   pulled toward N*, so that the statics stop jumping across a degenerate optimal face.
-3. Several starts (the normal forces of the associative LP at mu, 0.5 mu and
-   0.25 mu), one per core at once, each solving its own reduced-friction LP; from
+   :func:`limit.solve.iterative_lp.solve` (``prox``, the setting ``large_prox``): the normal
+   forces are pulled toward N*, so that the statics stop jumping across a degenerate optimal face.
+3. Several starts (the normal forces of the associative LP at mu x ``large_start_factors``:
+   mu, 0.5 mu and 0.25 mu), one per core at once, each solving its own reduced-friction LP; from
    ``one_round_min_free`` free blocks on, only as many as there are cores (from
-   ``very_large_min_free`` on in 2D, at 0.5 mu and 0.4 mu: :data:`START_FACTORS_LARGE`). The
+   ``very_large_min_free`` on in 2D, ``large_start_factors_very_large``). The
    lowest verified alpha is kept. Each verified alpha is a
    non-associative collapse state: an upper bound of the global frictional
    minimum, not the minimum itself.
@@ -37,9 +35,9 @@ When the associative LP is unbounded (sliding needs dilatancy, e.g. a block
 wedged between two fixed surfaces), the first N* comes from an equilibrium of
 the dead load alone (alpha = 0).
 
-The size thresholds (``one_round_min_free``, ``very_large_min_free``, ``prox_min_free``) are
-settings (:mod:`limit.settings`), read from the problem's options; the other constants below
-are the route's own.
+The size thresholds and the tuned numbers named above are settings (:mod:`limit.settings`,
+groups "route" and "large"), read from the problem's options; the structural choices below
+(snap rules and backends, the dimensions a rule applies in) are the route's own.
 
 Measured times and alphas (running-bond walls, ``make bench``: bench/step2_large_bench.py) are in
 docs/performance.md, 'Step 2 at scale'.
@@ -60,49 +58,21 @@ from limit.solve.outcome import RouteOutcome
 
 log = logging.getLogger(__name__)
 
-#: relaxation of N* per dimension, halved (down to OMEGA_MIN) whenever the complementarity residual
-#: has no new low for STALL LPs; a start with no new low for STALL LPs at OMEGA_MIN stops as stalled,
-#: so that its budget goes to the others
-OMEGA = {2: 1.0, 3: 0.5}
-#: ... from one_round_min_free free blocks on, where omega = 1 oscillates
-OMEGA_LARGE = 0.5
-#: the smallest relaxation, and the LPs without a new low that halve it
-OMEGA_MIN = 0.125
-STALL = 8
-#: the iterative LP's proximal weight (iterative_lp.solve's ``prox``) per dimension from the setting
-#: prox_min_free free blocks on (None: none): it pulls the normal forces toward N*, so that the
-#: statics stop jumping across a degenerate optimal face
-PROX = {2: 0.03, 3: None}
-#: complementarity residual (units of alpha) below which a snap by the piece LP is tried
-SNAP_COMP = 1e-3
-#: ... and, from the best iterate so far, when the residual has had no new low for PLATEAU LPs
-#: while that low is below SNAP_PLATEAU (and below every earlier snap's)
-SNAP_PLATEAU = 1e-2
-PLATEAU = 4
-#: the interior point method's tolerance while the complementarity residual is above FAR_COMP (the
-#: iterate is far from a collapse state, so an exact LP is wasted; None: ipm's default 1e-9)
-LP_TOL_FAR = 1e-4
-FAR_COMP = 1e-2
-#: ... and below FAR_COMP, per dimension (None: ipm's default 1e-9; the snap's piece LPs and the
-#: check are exact regardless)
-LP_TOL_NEAR = {2: 1e-7, 3: None}
-#: flowing-face rules of the snap, in order, and whether the first one passing the check is kept
-SNAP_RULES = ("support", "ratio", "least-slack")
-SNAP_FIRST = True
+#: flowing-face rules of the snap, in order, and whether the first one passing the check is kept;
 #: the "least-slack" rule: the flowing faces are those of the mechanism closest to complementary
 #: with the iterate's statics (:func:`limit.solve.rigid_clusters.least_slack_flow`: least work on
-#: the faces' slacks), where its multiplier exceeds this fraction of the largest (the smaller
-#: multipliers are set to zero, and the independent check judges the compatibility left). It is
-#: tried last: where the statics' optimal face is degenerate (the normal forces keep moving at a
-#: settled alpha), "support" holds more faces at their limit than a statics can, and "ratio" keeps
-#: too few for a mechanism
-LEAST_SLACK_SUPPORT = 1e-6
+#: the faces' slacks), where its multiplier exceeds the setting large_least_slack_support of the
+#: largest (the independent check judges the compatibility left). It is tried last: where the
+#: statics' optimal face is degenerate (the normal forces keep moving at a settled alpha),
+#: "support" holds more faces at their limit than a statics can, and "ratio" keeps too few for a
+#: mechanism
+SNAP_RULES = ("support", "ratio", "least-slack")
+SNAP_FIRST = True
 #: from the setting very_large_min_free free blocks on, in these dimensions (2D only: no 3D wall
-#: reaches it in the benchmarks), a snap is tried below a residual of SNAP_COMP_LARGE (from a
-#: plateau below SNAP_PLATEAU_LARGE), "ratio" first: a failed snap costs there more than several LPs
+#: reaches it in the benchmarks), the snap thresholds of the settings large_snap_comp_very_large and
+#: large_snap_plateau_very_large apply, with "ratio" first: a failed snap costs there more than
+#: several LPs
 VERY_LARGE_DIMS = (2,)
-SNAP_COMP_LARGE = 1e-4
-SNAP_PLATEAU_LARGE = 1e-3
 SNAP_RULES_LARGE = ("ratio", "support", "least-slack")
 #: LP backends of the snap's piece LPs, tried in turn until one gives a point that passes the
 #: check; when a backend proves every rule's piece LP infeasible, the next is not asked. "ipm": the
@@ -114,31 +84,18 @@ SNAP_BACKENDS = ("ipm", "clarabel", "highs")
 SNAP_TRUST_DIVERGED = True
 #: LP backend of the snap's kinematics on rigid clusters (and of the least-slack mechanism)
 KINEMATICS_BACKEND = "clarabel"
-#: outer iterations (LPs) per start
-MAX_ITER = 100
-#: friction factors of the starts (1 = the associative LP itself)
-START_FACTORS = (1.0, 0.5, 0.25)
-#: ... from very_large_min_free free blocks on, where the associative LP's own start stalls
-START_FACTORS_LARGE = (0.5, 0.4)
-#: ... from one_round_min_free free blocks on in 3D, where the associative LP's own start is the
-#: slowest and not the lowest
-START_FACTORS_ONE_ROUND_3D = (0.5, 0.25, 1.0)
 #: from the setting one_round_min_free free blocks on (where only as many starts run as there are
 #: workers), in these dimensions, each LP starts from the last one's point (iterative_lp's
 #: ``warm_start``)
 WARM_START_DIMS = (2,)
-#: once a start has verified at t (s from the route's start), the others stop at t x (1 + GRACE):
-#: from very_large_min_free free blocks on, in VERY_LARGE_DIMS only, where every start that verifies
-#: gives the same alpha; not in 3D, where the starts' alphas differ
-GRACE = 0.0
-
 
 def _free_blocks(P) -> int:
     return P.n_dof // P.scene.ndof
 
 
 def _one_round(P) -> bool:
-    """At least one_round_min_free free blocks: one round of starts, relaxation OMEGA_LARGE."""
+    """At least one_round_min_free free blocks: one round of starts, relaxation at most
+    large_omega_one_round."""
     return _free_blocks(P) >= settings.of(P).one_round_min_free
 
 
@@ -149,9 +106,10 @@ def _very_large(P) -> bool:
 
 def _snap_settings(P) -> tuple[float, float, tuple]:
     """(residual below which to snap, plateau below which to snap, flowing-face rules) for P's size."""
+    cfg = settings.of(P)
     if _very_large(P):
-        return SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, SNAP_RULES_LARGE
-    return SNAP_COMP, SNAP_PLATEAU, SNAP_RULES
+        return cfg.large_snap_comp_very_large, cfg.large_snap_plateau_very_large, SNAP_RULES_LARGE
+    return cfg.large_snap_comp, cfg.large_snap_plateau, SNAP_RULES
 
 
 def dead_load_start(P) -> np.ndarray | None:
@@ -179,13 +137,14 @@ def start_nstar(P, lp_sol, factor: float) -> np.ndarray | None:
     return None if sol2 is None else (sol2.x / P.Dx)[ncol]
 
 
-def starts(P, lp_sol, factors=START_FACTORS) -> list[tuple[str, np.ndarray]]:
-    """(label, N* per friction row) of each start (:func:`start_nstar`), or of a dead-load
-    equilibrium when the LP has no optimum."""
+def starts(P, lp_sol, factors=None) -> list[tuple[str, np.ndarray]]:
+    """(label, N* per friction row) of each start (:func:`start_nstar`; ``factors`` default: the
+    setting large_start_factors), or of a dead-load equilibrium when the LP has no optimum."""
     if lp_sol is None or lp_sol.status != Status.OPTIMAL:
         _, _, ncol, _ = iterative_lp.friction_rows(P)
         xh = dead_load_start(P)
         return [] if xh is None else [("dead-load", xh[ncol])]
+    factors = settings.of(P).large_start_factors if factors is None else factors
     out = [(start_label(f), start_nstar(P, lp_sol, f)) for f in factors]
     return [(lab, n0) for lab, n0 in out if n0 is not None]
 
@@ -227,7 +186,7 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
                                               time_limit=left())
         if kin.vh is None:
             return Snap(None, f"least-slack mechanism: {kin.status}", infeasible=kin.no_point)
-        flows = kin.lam > LEAST_SLACK_SUPPORT * max(kin.lam.max(initial=0.0), 1e-300)
+        flows = kin.lam > settings.of(P).large_least_slack_support * max(kin.lam.max(initial=0.0), 1e-300)
         act, hold = np.flatnonzero(flows), np.flatnonzero(~flows)
         vh, lamh = kin.vh, np.where(flows, kin.lam, 0.0)
     else:
@@ -269,13 +228,15 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     return Snap(N.join(st.z[0], st.z[1:], vh, lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces")
 
 
-def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend=None, stop=None) -> dict:
-    """One start: iterate, check each LP point, snap near complementarity (with the LP
-    ``backend`` of :mod:`limit.solve.lpsub`, default each of :data:`SNAP_BACKENDS` in turn). ``stop``
+def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=None, stop=None) -> dict:
+    """One start: iterate (at most ``max_iter`` LPs, default the setting large_max_iter), check
+    each LP point, snap near complementarity (with the LP ``backend`` of :mod:`limit.solve.lpsub`,
+    default each of :data:`SNAP_BACKENDS` in turn). ``stop``
     (a :class:`_Stop`, None: none): the time another start set for every start to stop (it ends
     this one like its deadline), which this one sets in turn when it verifies. Returns
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
     t0 = time.perf_counter()
+    cfg = settings.of(P)
 
     def until():  # the earlier of the deadline and the shared stop time; None: neither
         ends = [t for t in (deadline, None if stop is None else stop.at()) if t is not None and np.isfinite(t)]
@@ -287,7 +248,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
     snap_comp, snap_plateau, rules = _snap_settings(P)
     retry_below = [snap_comp]
     snapped_at = [np.inf]  # the lowest residual a snap was tried at
-    relax = {"omega": min(OMEGA[P.scene.dim], OMEGA_LARGE) if _one_round(P) else OMEGA[P.scene.dim], "best": np.inf,
+    omega = cfg.large_omega_2d if P.scene.dim == 2 else cfg.large_omega_3d
+    relax = {"omega": min(omega, cfg.large_omega_one_round) if _one_round(P) else omega, "best": np.inf,
              "best_it": 0, "z": None}
 
     def try_snap(z, comp, it) -> bool:
@@ -320,12 +282,12 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
         comp = res["complementarity"]
         if comp < relax["best"]:
             relax.update(best=comp, best_it=it, z=z)
-        elif (it - relax["best_it"] == PLATEAU and relax["best"] < min(snap_plateau, snapped_at[0])
+        elif (it - relax["best_it"] == cfg.large_plateau and relax["best"] < min(snap_plateau, snapped_at[0])
               and try_snap(relax["z"], relax["best"], relax["best_it"])):
             return True
-        if it - relax["best_it"] >= STALL and relax["omega"] > OMEGA_MIN:
+        if it - relax["best_it"] >= cfg.large_stall and relax["omega"] > cfg.large_omega_min:
             relax.update(omega=relax["omega"] / 2.0, best_it=it)
-        elif it - relax["best_it"] >= STALL:  # no new low for STALL LPs at the smallest relaxation
+        elif it - relax["best_it"] >= cfg.large_stall:  # no new low at the smallest relaxation
             stalled.append(it)
             return True
         if comp < retry_below[0]:
@@ -335,11 +297,14 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
         end = until()
         return end is not None and time.perf_counter() > end
 
-    out = iterative_lp.solve(P, None, omega=lambda: relax["omega"], tol=1e-10, max_iter=max_iter, backend="ipm",
+    near = cfg.large_lp_tol_near_2d if P.scene.dim == 2 else None  # None: ipm's own tolerance
+    out = iterative_lp.solve(P, None, omega=lambda: relax["omega"], tol=1e-10,
+                             max_iter=cfg.large_max_iter if max_iter is None else max_iter, backend="ipm",
                              nstar0=nstar0, on_iterate=on_iterate,
-                             lp_tol=lambda: LP_TOL_FAR if relax["best"] > FAR_COMP else LP_TOL_NEAR[P.scene.dim],
+                             lp_tol=lambda: cfg.large_lp_tol_far if relax["best"] > cfg.large_far_comp else near,
                              warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS,
-                             prox=PROX[P.scene.dim] if _free_blocks(P) >= settings.of(P).prox_min_free else None)
+                             prox=cfg.large_prox if P.scene.dim == 2 and _free_blocks(P) >= cfg.prox_min_free
+                             else None)
     rec = {"iterations": out.iterations, "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
     if found:
@@ -347,10 +312,11 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
             stop.verified(time.perf_counter())
         return {**rec, "verified": True, "alpha": float(found["z"][N.ia]), "z": found["z"], "how": found["how"]}
     if stalled:
-        why = (f"stalled: the complementarity residual had no new low ({relax['best']:.1e}) for {STALL} LPs "
-               f"at the smallest relaxation {OMEGA_MIN:g}")
+        why = (f"stalled: the complementarity residual had no new low ({relax['best']:.1e}) for "
+               f"{cfg.large_stall} LPs at the smallest relaxation {cfg.large_omega_min:g}")
     elif stop is not None and time.perf_counter() > stop.at() and (deadline is None or stop.at() < deadline):
-        why = f"stopped: another start had verified ({GRACE:.0%} of its time given to the others)" if GRACE \
+        grace = stop.grace
+        why = f"stopped: another start had verified ({grace:.0%} of its time given to the others)" if grace \
             else "stopped: another start had verified first"
     else:
         why = out.reason or ("time budget spent" if out.status == IterativeStatus.STOPPED else out.status)
@@ -359,22 +325,23 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=MAX_ITER, backend
 
 class _Stop:
     """The time (time.perf_counter(), shared by the starts' processes) at which every start stops:
-    infinite until a start verifies at t, then t0 + (t - t0) (1 + GRACE) with t0 the route's start
-    (:data:`GRACE`), or, given ``soft`` (the end of the route's budget), the later of ``soft`` and
+    infinite until a start verifies at t, then t0 + (t - t0) (1 + grace) with t0 the route's start
+    (the setting large_grace), or, given ``soft`` (the end of the route's budget), the later of ``soft`` and
     t: the others go on to the budget's end for a lower point, and no further once one has
     verified. ``value``: a multiprocessing.Value("d") for starts in worker processes (created
     before they fork), else a plain holder."""
 
-    def __init__(self, t0: float, value=None, soft: float | None = None):
+    def __init__(self, t0: float, value=None, soft: float | None = None, grace: float = 0.0):
         self.t0 = t0
         self.soft = soft
+        self.grace = grace
         self.value = value if value is not None else type("Holder", (), {"value": np.inf})()
 
     def at(self) -> float:
         return float(self.value.value)
 
     def verified(self, t: float) -> None:
-        end = self.t0 + (t - self.t0) * (1.0 + GRACE) if self.soft is None else max(self.soft, t)
+        end = self.t0 + (t - self.t0) * (1.0 + self.grace) if self.soft is None else max(self.soft, t)
         self.value.value = min(self.at(), end)
 
 
@@ -421,7 +388,7 @@ def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=N
 
     ctx = mp.get_context("fork")
     try:
-        stop = None if t0 is None else _Stop(t0, ctx.Value("d", np.inf), soft)
+        stop = None if t0 is None else _Stop(t0, ctx.Value("d", np.inf), soft, settings.of(P).large_grace)
         with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                  initargs=(stop,)) as ex:
             return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None, None) for _, s in plan]))
@@ -449,8 +416,10 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     alpha_ref = lp_sol.alpha if optimal else np.inf
     cores = workers or os.cpu_count() or 1
     if factors is None:
-        factors = (START_FACTORS_LARGE if _very_large(P) else
-                   START_FACTORS_ONE_ROUND_3D if _one_round(P) and P.scene.dim == 3 else START_FACTORS)
+        cfg = settings.of(P)
+        factors = (cfg.large_start_factors_very_large if _very_large(P) else
+                   cfg.large_start_factors_one_round_3d if _one_round(P) and P.scene.dim == 3 else
+                   cfg.large_start_factors)
     if optimal:  # (label, friction factor): each start's LP is solved by the start itself
         if _one_round(P):
             factors = tuple(factors)[:max(1, cores)]
@@ -463,7 +432,7 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     workers = min(len(plan), cores)
     log.info("step 2, large-scale route: %d start(s) (%s) on %d process(es)", len(plan),
              ", ".join(label for label, _ in plan), workers)
-    grace = _very_large(P)  # the starts stop GRACE after the first verified one (2D, very large)
+    grace = _very_large(P)  # the starts stop large_grace after the first verified one (2D, very large)
     shared = grace or soft is not None  # the starts stop each other
     soft = None if grace else soft
     results = None
@@ -471,7 +440,7 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
         results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0 if shared else None, soft)
     if results is None:
         workers, results = 1, []
-        stop = _Stop(t0, soft=soft) if shared else None
+        stop = _Stop(t0, soft=soft, grace=settings.of(P).large_grace) if shared else None
         for label, start in plan:
             if deadline is not None and any(r["verified"] for r in results) and \
                     time.perf_counter() > (deadline if soft is None else soft):
