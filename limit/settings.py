@@ -109,11 +109,10 @@ class Settings:
         "down to large_omega_min whenever the complementarity residual has no new low for large_stall LPs)")
     large_omega_3d: float = _s(
         0.5, "large", "-",
-        "the same in 3D (at 1 a 42-block wall oscillated until an LP failed)")
+        "the same in 3D, where omega = 1 oscillates")
     large_omega_one_round: float = _s(
         0.5, "large", "-",
-        "the relaxation at most, from one_round_min_free free blocks on (omega = 1 oscillated at 3,052 and "
-        "10,050 2D blocks)")
+        "the relaxation at most, from one_round_min_free free blocks on, where omega = 1 oscillates")
     large_omega_min: float = _s(
         0.125, "large", "-",
         "the smallest relaxation; a start with no new low for large_stall LPs there stops as stalled, so "
@@ -167,11 +166,12 @@ class Settings:
         "friction factors of the starts' associative LPs (1: the associative LP itself)")
     large_start_factors_very_large: tuple = _s(
         (0.5, 0.4), "large", "x mu",
-        "the starts from very_large_min_free free blocks on (2D), where the associative LP's own start stalls")
+        "the starts from very_large_min_free free blocks on (2D), without the associative LP's own start, "
+        "which stalls there")
     large_start_factors_one_round_3d: tuple = _s(
         (0.5, 0.25, 1.0), "large", "x mu",
         "the starts from one_round_min_free free blocks on in 3D, in order (only as many as there are "
-        "workers run), where the associative LP's own start was the slowest and not the lowest")
+        "workers run), the associative LP's own start last: there it is the slowest and not the lowest")
     large_grace: float = _s(
         0.0, "large", "x the first verified start's time",
         "from very_large_min_free free blocks on (2D), once a start has verified at t s the others stop "
