@@ -192,3 +192,11 @@ def test_the_summary_line_is_the_engines():
                                 "runs": [{"eps": 1e-5, "alpha": 0.29946}, {"eps": 2.5e-6, "alpha": 0.30024}]}))
     assert ("DEM collapsed: alpha = 0.3005 +- 0.0014 (rigid-contact extrapolation of the two stiffest runs "
             "0.29946 (eps 1e-05), 0.30024 (eps 2.5e-06))") in y
+
+
+def test_a_yade_result_of_one_run_does_not_claim_an_extrapolation():
+    from dem_validation.engines.yade import ENGINE
+
+    line = ENGINE.collapse_line({"alpha": 0.56544, "alpha_uncertainty": 0.00099, "extrapolation": {"method": "richardson"},
+                                 "runs": [{"eps": 2.5e-6, "alpha": 0.56544}]})
+    assert line == "DEM collapsed: alpha = 0.56544 +- 0.00099 (the one run 0.56544 (eps 2.5e-06))"

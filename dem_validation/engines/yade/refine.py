@@ -1,6 +1,5 @@
-"""When the vertex model runs one more, stiffer, pushover (:func:`yade_main.run_pushovers`).
-
-Pure Python (no YADE import), so that the host's tests check the rule that the YADE side runs.
+"""When the vertex model runs one more, stiffer, pushover (the host's loop,
+:func:`dem_validation.engines.yade.per_stiffness`). Pure Python, no YADE import.
 
 The two stiffest runs are *apart* when they end differently (one collapsed under the dead load or
 stood where the other collapsed) or collapse at alphas more than ``refine_rtol`` apart. Then one

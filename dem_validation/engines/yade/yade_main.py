@@ -1,7 +1,8 @@
 """YADE entry script: ``yade -n -x yade_main.py JOB.json``.
 
 Reads the job file written by the host (dem_validation.job), builds the model,
-runs the pushover at each stiffness of ``params["eps"]`` and writes
+runs the pushover (the vertex model: at one stiffness, ``job["stiffness"]``; Polyhedra: at each
+of ``params["eps"]``) and writes
 ``job["result"]`` (JSON through a temporary file and a rename):
 ``{"status": "done"|"failed", "runs": [per stiffness], "reason", "time_s"}``. Progress goes to
 stdout as lines ``DEMPROGRESS {json}``. Exit status 0 when a result file was
@@ -18,58 +19,41 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
 
 import pushover  # noqa: E402  (a sibling module, importable without the project's packages)
-import refine  # noqa: E402
 import yade_model  # noqa: E402
 
 
 def run_pushovers(job, eps_list, p):
-    """(model, runs, refinement): the pushover at every stiffness, each run with its ``cpu_s``.
+    """(model, runs): the pushover at the job's stiffnesses, each run with its ``cpu_s``.
     Polyhedra (``contact: polyhedra``): one model, a stiffer run restarts from a softer run's
-    equilibrium. Vertex model (the default): each stiffness has its own sphere radius, so each is
-    a new model loaded from scratch (also one loading path for every stiffness, where friction
-    makes the path matter) whose first load step goes near the softer run's collapse;
-    while the two stiffest runs disagree, one more run at a quarter of the stiffest eps, within
-    refine_max and refine_cpu_s (:func:`refine.next_eps`). ``refinement``: why the two stiffest
-    runs are left apart (empty where they agree)."""
+    equilibrium. Vertex model (the default): one stiffness per process, ``job["stiffness"]``
+    (``eps``, the softer run's bracket ``hint`` or None, and its ``alpha_rtol``; default: the first
+    of ``eps_list``, no hint), in a model loaded from scratch whose first load step goes near the
+    hint. The host starts one process per stiffness and decides on a stiffer run
+    (:func:`refine.next_eps`): a second model built in a process that ran one does not repeat from
+    process to process."""
     contact = job.get("contact", "vertex")
     if contact == "polyhedra":
         import yade_polyhedra
 
         model = yade_polyhedra.PolyhedraModel(job)
         emit({"phase": "start", "blocks": len(model.free), "eps": eps_list})
-        return model, pushover.pushover(model, eps_list, p, emit=emit), ""
+        return model, pushover.pushover(model, eps_list, p, emit=emit)
     if contact != "vertex":
         raise ValueError(f"unknown contact model {contact!r}")
     import yade_vertex
 
-    runs = []
-    eps_list = list(eps_list)
-    extra = 0
-    k = 0
-    why = ""
-    while k < len(eps_list):
-        eps = eps_list[k]
-        if k:
-            yade_model.O.reset()
-        model = yade_vertex.VertexModel(job, eps)
-        emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
-        prev = runs[-1] if runs and runs[-1]["status"] == "collapsed" and runs[-1].get("alpha_lo") else None
-        hint = (prev["alpha_lo"], prev["alpha_hi"]) if prev else None
-        # a softer run only sets the extrapolation's slope (weight 1/3): a wider bracket will do
-        pk = p if k == len(eps_list) - 1 else dict(p, alpha_rtol=max(p["alpha_rtol"], p["alpha_rtol_soft"]))
-        c0 = time.process_time()
-        run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint)[0]
-        run["cpu_s"] = time.process_time() - c0
-        run["sphere_radius"] = model.r
-        run["mass_factor"] = model.mass_factor
-        runs.append(run)
-        k += 1
-        if k == len(eps_list):
-            stiffer, why = refine.next_eps(runs, extra, time.process_time(), p)
-            if stiffer is not None:  # the two stiffest runs are not yet close: one stiffer run
-                eps_list.append(stiffer)
-                extra += 1
-    return model, runs, why
+    one = job.get("stiffness") or {"eps": eps_list[0]}
+    eps = float(one["eps"])
+    model = yade_vertex.VertexModel(job, eps)
+    emit({"phase": "start", "blocks": len(model.free), "eps": [eps], "sphere_radius": model.r})
+    hint = tuple(one["hint"]) if one.get("hint") else None
+    pk = dict(p, alpha_rtol=float(one["alpha_rtol"])) if one.get("alpha_rtol") else p
+    c0 = time.process_time()
+    run = pushover.pushover(model, [eps], pk, emit=emit, hint=hint)[0]
+    run["cpu_s"] = time.process_time() - c0
+    run["sphere_radius"] = model.r
+    run["mass_factor"] = model.mass_factor
+    return model, [run]
 
 
 def _vec(v):
@@ -118,10 +102,8 @@ def main(argv):
     eps_list = [float(e) for e in p["eps"]]
     res = {"status": "failed", "runs": []}
     try:
-        model, runs, why = run_pushovers(job, eps_list, p)
+        model, runs = run_pushovers(job, eps_list, p)
         res.update(length=model.length)
-        if why:
-            res["refinement"] = why
         ids = [b["id"] for b in job["blocks"]]
         for r in runs:
             c = r.pop("collapse")
