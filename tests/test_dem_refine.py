@@ -100,3 +100,13 @@ def test_a_failed_stiffness_ends_the_runs_and_names_its_eps(monkeypatch):
     out = yade.per_stiffness({"params": P}, P, timeout_s=100.0)
     assert out["status"] == "failed" and out["reason"] == "the run at eps 2.5e-06: timed out"
     assert len(out["runs"]) == 1 and out["cpu_s"] == 15.0
+
+
+def test_a_failed_later_stiffness_keeps_the_earlier_runs_in_the_result():
+    """The result of a failed sequence still carries the run that ended (nothing lost on failure)."""
+    from dem_validation.engines.yade.assemble import assemble
+
+    raw = {"status": "failed", "reason": "the run at eps 2.5e-06: timed out", "cpu_s": 15.0,
+           "runs": [{"eps": 1e-5, "status": "collapsed", "alpha": 0.4}]}
+    res = assemble(raw, P)
+    assert res.status == "failed" and res.runs[0]["alpha"] == 0.4

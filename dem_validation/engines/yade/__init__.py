@@ -105,8 +105,9 @@ def per_stiffness(job: dict, p: dict, *, timeout_s=None, cpu_limit_s=None, **go)
     does not repeat from process to process (docs/performance.md, 'One YADE process per
     stiffness'), so no process builds two. The planned stiffnesses ``p["eps"]`` run softest first;
     each run after a collapse starts near the softer run's bracket (``hint``), and a run that is
-    not the stiffest planned when it starts has the wider ``alpha_rtol_soft``. While the two stiffest disagree, one more run
-    follows (:func:`refine.next_eps`, on the CPU seconds of the processes so far).
+    not the stiffest planned when it starts has the wider ``alpha_rtol_soft``. While the two
+    stiffest disagree, one more run follows (:func:`refine.next_eps`, on the CPU seconds of the
+    processes so far).
     ``timeout_s`` and ``cpu_limit_s`` bound all the runs together; ``go``: :func:`run_job`'s other
     arguments. A failed run ends the sequence with its reason and the runs before it."""
     eps_list = [float(e) for e in p["eps"]]

@@ -11,7 +11,8 @@ from ..result import DemResult, Status, failed
 def assemble(raw: dict, p: dict) -> DemResult:
     """The DEM result from the YADE side's result (``{"status": "done"|"failed", "runs"}``)."""
     if raw.get("status") != "done":
-        return failed(raw.get("reason", "DEM run failed"), **_keep(raw, "steps_total", "cpu_s", "progress"))
+        # the runs that ended before the failure stay in the result (the vertex model's later run failed)
+        return failed(raw.get("reason", "DEM run failed"), **_keep(raw, "steps_total", "cpu_s", "progress", "runs"))
     runs = raw.get("runs") or []
     history = [dict(h, eps=r["eps"]) for r in runs for h in r.get("history", [])]
     summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt",
