@@ -191,9 +191,7 @@ def test_two_processes_build_the_same_block_surfaces(tmp_path, monkeypatch):
 
 
 @pytest.mark.xfail(strict=True, reason="YADE's Polyhedra surfaces follow the heap, and the job file's length "
-                   "moves the heap: a 3,000-character unused key in the 40-stone wall's job changes the surfaces, "
-                   "and the first run's collapse alpha from 0.53923 to 0.38252 (docs/performance.md, 'One YADE "
-                   "process per stiffness')")
+                   "moves the heap (docs/performance.md, 'One YADE process per stiffness')")
 def test_the_block_surfaces_do_not_depend_on_the_job_files_length(tmp_path):
     """The same scene with an unused key of 0 or 3,000 characters in its job file must build the
     same block surfaces (the environment and addresses are fixed: the test above)."""

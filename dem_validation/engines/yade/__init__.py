@@ -117,7 +117,7 @@ def per_stiffness(job: dict, p: dict, *, timeout_s=None, cpu_limit_s=None, **go)
     extra, k = 0, 0
     while k < len(eps_list):
         prev = runs[-1] if runs and runs[-1]["status"] == "collapsed" and runs[-1].get("alpha_lo") else None
-        last = k == len(eps_list) - 1
+        last = k == len(eps_list) - 1  # a softer run only sets the extrapolation's slope: a wider bracket will do
         one = {"eps": eps_list[k], "hint": [prev["alpha_lo"], prev["alpha_hi"]] if prev else None,
                "alpha_rtol": p["alpha_rtol"] if last else max(p["alpha_rtol"], p["alpha_rtol_soft"])}
         left = None if timeout_s is None else timeout_s - (time.monotonic() - t0)
