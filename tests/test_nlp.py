@@ -310,3 +310,21 @@ def test_the_milp_bounds_equal_those_of_independent_lps(dim):
         f = np.isfinite(ref)
         assert f.sum() > 0
         np.testing.assert_allclose(got[f], ref[f], rtol=1e-7, atol=1e-9)
+
+
+def test_the_global_milp_reports_its_progress(monkeypatch, caplog):
+    """A long global check tells where it is: the bound LPs as they go, the branch and cut as it
+    starts, and its end with the alpha found (the squat block of the test above: pure sliding at
+    alpha = mu = 0.3, since a block b = 1.0 wide and h = 0.5 high overturns only at b / h = 2)."""
+    import logging
+    monkeypatch.setattr(milp, "PROGRESS_EVERY_S", 0.0)
+    P, sol = setup(B.single_block(dim=2, b=1.0, h=0.5, mu=0.3))
+    with caplog.at_level(logging.INFO, logger="limit.solve.milp"):
+        g = milp.global_minimum(P, sol.alpha)
+    lines = [r.getMessage() for r in caplog.records if r.name == "limit.solve.milp"]
+    nf = P.model.n_faces
+    assert lines[0] == f"global MILP: bounds of {nf} yield faces' slacks and multipliers, {2 * nf} LPs"
+    assert any(f"of {2 * nf} LPs" in t and t.startswith("global MILP: bounds, ") for t in lines)
+    assert any(t.startswith(f"global MILP: branch and cut on {nf} binaries") for t in lines)
+    assert g.status == "optimal" and g.alpha == pytest.approx(0.3, rel=1e-6)
+    assert lines[-1].startswith("global MILP: optimal") and "alpha 0.3" in lines[-1]

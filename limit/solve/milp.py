@@ -23,6 +23,7 @@ cap is enlarged until no multiplier reaches it. Practical up to some 30 blocks.
 """
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
 
@@ -33,6 +34,11 @@ from scipy.optimize import Bounds, LinearConstraint, milp
 from limit.solve import lpsub
 from limit.solve.nlp_problem import build
 from limit.solve.status import GlobalStatus
+
+log = logging.getLogger(__name__)
+
+#: seconds between the progress lines of the bound tightening
+PROGRESS_EVERY_S = 30.0
 
 
 def _bounds(N, P, alpha_ub, deadline):
@@ -45,10 +51,21 @@ def _bounds(N, P, alpha_ub, deadline):
     ndof = P.n_dof
     S = np.full(nf, np.inf)
     L = np.full(nf, np.inf)
+    t0 = last = time.perf_counter()
+
+    def tell(done: int) -> None:
+        nonlocal last
+        now = time.perf_counter()
+        if now > deadline:
+            raise TimeoutError
+        if now - last >= PROGRESS_EVERY_S:
+            last = now
+            log.info("global MILP: bounds, %d of %d LPs (%.0f s)", done, 2 * nf, now - t0)
+
+    log.info("global MILP: bounds of %d yield faces' slacks and multipliers, %d LPs", nf, 2 * nf)
     statics = lpsub.HighsLP(N.Aeq[:ndof], N.beq[:ndof], N.Yx, N.kh, lo, hi)
     for j in range(nf):  # s_j = kh_j - Yx_j z at its largest: Yx_j z at its least
-        if time.perf_counter() > deadline:
-            raise TimeoutError
+        tell(j)
         r = statics.solve(N.Yx[j].toarray().ravel())
         if r.ok:
             S[j] = max(N.kh[j] - r.fun, 0.0)
@@ -56,8 +73,7 @@ def _bounds(N, P, alpha_ub, deadline):
                       sp.csr_matrix((1, nf))]).tocsr()
     kinematics = lpsub.HighsLP(N.Aeq[ndof:], N.beq[ndof:], work, np.array([alpha_ub]), lo, hi)
     for j in range(nf):
-        if time.perf_counter() > deadline:
-            raise TimeoutError
+        tell(nf + j)
         c = np.zeros(N.n)
         c[N.sl.start + j] = -1.0
         r = kinematics.solve(c)
@@ -132,9 +148,14 @@ def global_minimum(P, alpha_ub: float, time_limit: float = 120.0, max_enlarge: i
         left = deadline - time.perf_counter()
         if left <= 0:
             break
+        log.info("global MILP: branch and cut on %d binaries, alpha <= %.6g, %.0f s left", nf, alpha_ub, left)
         res = milp(c, integrality=integrality, bounds=Bounds(bl, bu), constraints=LinearConstraint(A, lb, ub),
                    options={"time_limit": left, "mip_rel_gap": 1e-7})
         bound = getattr(res, "mip_dual_bound", None)
+        log.info("global MILP: %s, alpha %s, bound %s (%.0f s)",
+                 {0: "optimal", 1: "time limit", 2: "infeasible", 3: "unbounded"}.get(res.status, "failed"),
+                 "-" if res.x is None else f"{res.x[N.ia]:.6g}", "-" if bound is None else f"{bound:.6g}",
+                 time.perf_counter() - t0)
         if res.x is None:
             status = {1: GlobalStatus.TIME_LIMIT, 2: GlobalStatus.INFEASIBLE,
                       3: GlobalStatus.UNBOUNDED}.get(res.status, GlobalStatus.FAILED)
