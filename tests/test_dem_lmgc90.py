@@ -275,19 +275,43 @@ def test_the_time_step_is_halved_until_two_runs_agree(dt_ok, halvings, n_runs, c
         hints.append(hint)
         return search(_fake(crit(dt))[0], p, hint=hint)
 
-    runs, ok = converge_dt(search_at, 1e-3, halvings, hint=0.3)
+    runs, ok, why = converge_dt(search_at, 1e-3, halvings, hint=0.3)
     assert len(runs) == n_runs and ok is converged
+    assert why == ("dt_halvings = 2 halvings done" if converged is False else "")
     assert [r["dt"] for r in runs] == [1e-3 / 2 ** k for k in range(n_runs)]
     assert hints == [0.3] + [r["alpha"] for r in runs[:-1]]
     for r in runs:
         assert r["alpha_lo"] <= crit(r["dt"]) < r["alpha_hi"]
 
 
+@pytest.mark.parametrize("cap, n_runs", [
+    (100.0, 3),   # 10 s, then 20 s: 30 + 2 x 20 = 70 s <= 100 s, so a third run (40 s); 70 + 80 > 100 stops
+    (69.0, 2),    # 30 + 2 x 20 = 70 s > 69 s: no third run
+    (29.0, 1),    # 10 + 2 x 10 = 30 s > 29 s: no second run, so no check at all
+])
+def test_a_halving_starts_only_if_it_fits_in_the_time_cap(cap, n_runs):
+    """A fake engine whose run at dt takes 10 s x (1e-3 / dt) (half the time step, twice the steps)
+    and collapses at 0.25 x (1 + 100 dt): never two runs in agreement, so only the cap dt_cpu_s
+    ends the halvings; the projection of the next run is twice the last one's."""
+    p = knobs({})
+    now = [0.0]
+
+    def search_at(dt, hint):
+        now[0] += 10.0 * 1e-3 / dt
+        return search(_fake(0.25 * (1 + 100 * dt))[0], p, hint=hint)
+
+    runs, ok, why = converge_dt(search_at, 1e-3, 6, hint=0.3, cpu_cap=cap, clock=lambda: now[0])
+    assert len(runs) == n_runs
+    assert [r["time_s"] for r in runs] == [10.0 * 2 ** k for k in range(n_runs)]
+    assert ok is (False if n_runs > 1 else None)
+    assert why.startswith(f"a run at dt {1e-3 / 2 ** n_runs:.3g} s would bring the CPU time to about") and f"{cap:g} s" in why
+
+
 def test_a_stable_or_dead_load_run_ends_the_time_step_check():
     p = knobs({})
-    runs, ok = converge_dt(lambda dt, h: search(_fake(1.0, dead=True)[0], p), 1e-3, 2)
+    runs, ok, _ = converge_dt(lambda dt, h: search(_fake(1.0, dead=True)[0], p), 1e-3, 2)
     assert len(runs) == 1 and ok is None and runs[0]["dead_load_collapse"]
-    runs, ok = converge_dt(lambda dt, h: search(_fake(1e9)[0], p), 1e-3, 2)
+    runs, ok, _ = converge_dt(lambda dt, h: search(_fake(1e9)[0], p), 1e-3, 2)
     assert len(runs) == 1 and ok is None and runs[0]["status"] == "stable"
 
 

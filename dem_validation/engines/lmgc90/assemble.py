@@ -18,7 +18,7 @@ def assemble_rigid(raw: dict) -> DemResult:
         return failed("the LMGC90 side returned no run")
     run = runs[-1]
     summary = [{**{k: r.get(k) for k in ("eps", "status", "alpha", "alpha_lo", "alpha_hi", "steps",
-                                         "dead_load_collapse", "dt") if k != "dt" or "dt" in r},
+                                         "dead_load_collapse", "dt", "time_s") if k not in ("dt", "time_s") or k in r},
                 "history": [dict(h, eps=0.0) for h in r.get("history", [])]} for r in runs]
     base = {"runs": summary, "history": [dict(h, eps=0.0, **({"dt": run["dt"]} if "dt" in run else {}))
                                          for h in run.get("history", [])],
@@ -35,5 +35,6 @@ def assemble_rigid(raw: dict) -> DemResult:
         a, b = runs[-2], run
         note["note"] = (f"the time step did not converge: {b['alpha']:.5g} at dt {b['dt']:.3g} s against "
                         f"{a['alpha']:.5g} at {a['dt']:.3g} s ({100 * (b['alpha'] / a['alpha'] - 1):+.1f} %, brackets "
-                        "apart); a smaller dt (--set dt=...) or more halvings (dt_halvings) may move it further")
+                        f"apart; {raw.get('dt_stop') or 'no further halving'}); a smaller dt (--set dt=...), more "
+                        "halvings (dt_halvings) or a larger dt_cpu_s may move it further")
     return DemResult.of(Status.COLLAPSED, alpha=run["alpha"], alpha_uncertainty=half, **note, **base)

@@ -26,10 +26,15 @@ KNOBS = {
                     "least bounding-box extent of the thinnest free block; 0 keeps dt. The error of alpha falls "
                     "about tenfold per halving of dt (docs/performance.md, 'The bracket on a wall outside the "
                     "catalog')"),
-    "dt_halvings": (2, "the time step's convergence check: the search is repeated at dt/2, dt/4, ... (at most this "
-                       "many halvings; 0: one run at dt) until two successive time steps' brackets overlap; the finest "
-                       "run is the result. The 27-voussoir arch collapses 8.4 % low at 1e-3 s, 2.4 % at 5e-4 s and "
-                       "0.9 % at 2.5e-4 s (docs/performance.md, 'LMGC90's time-step check')"),
+    "dt_halvings": (4, "the time step's convergence check: the search is repeated at dt/2, dt/4, ... (at most this "
+                       "many halvings; 0: one run at dt) until two successive time steps' brackets overlap, or "
+                       "until the next run would not fit in dt_cpu_s; the finest run is the result. The "
+                       "27-voussoir arch collapses 8.4 % low at 1e-3 s, 2.4 % at 5e-4 s and 0.9 % at 2.5e-4 s "
+                       "(docs/performance.md, 'LMGC90's time-step check')"),
+    "dt_cpu_s": (600.0, "a further halving starts only if the CPU seconds spent so far plus its projection "
+                        "(twice the last run's: half the time step, twice the steps) stay within this: two thirds "
+                        "of the validation's least LMGC90 CPU limit (900 s), so that a projection short by half "
+                        "still ends within it"),
     "t_load": (0.02, "gravity alone before the live load starts (s); rigid blocks carry their weight from the "
                      "first step, so a short settle suffices (0.1 s gave the same alphas)"),
     "t_ramp": (0.05, "the live load rises linearly to alpha x fL over this (s)"),
@@ -153,22 +158,33 @@ def agree(a: dict, b: dict) -> bool:
     return max(a["alpha_lo"], b["alpha_lo"]) <= min(a["alpha_hi"], b["alpha_hi"])
 
 
-def converge_dt(search_at, dt: float, halvings: int, hint=None) -> tuple[list, bool | None]:
-    """(runs, converged): ``search_at(dt, hint) -> run`` at ``dt``, then at dt/2, dt/4, ... (each
-    from the previous run's alpha as its guess) until two successive runs :func:`agree` or
-    ``halvings`` halvings are done. A run that does not end in a collapse with a bracket (stable,
-    or a dead-load collapse) ends the check: converged is None, as when ``halvings`` is 0."""
+def converge_dt(search_at, dt: float, halvings: int, hint=None, cpu_cap: float = math.inf,
+                clock=time.process_time) -> tuple[list, bool | None, str]:
+    """(runs, converged, why it stopped apart): ``search_at(dt, hint) -> run`` at ``dt``, then at
+    dt/2, dt/4, ... (each from the previous run's alpha as its guess) until two successive runs
+    :func:`agree`, ``halvings`` halvings are done, or the next run would not fit: the CPU seconds
+    spent so far (``clock``) plus twice the last run's exceed ``cpu_cap``. A run that does not
+    end in a collapse with a bracket (stable, or a dead-load collapse) ends the check: converged
+    is None, as when ``halvings`` is 0. Each run gets its ``dt`` and ``time_s``."""
     runs = []
+    t0 = clock()
     for k in range(int(halvings) + 1):
+        t = clock()
         run = search_at(dt, hint)
-        run["dt"] = dt
+        run["dt"], run["time_s"] = dt, clock() - t
         runs.append(run)
         if run["status"] != "collapsed" or run["dead_load_collapse"] or run["alpha"] is None:
-            return runs, None
+            return runs, None, ""
         if k and agree(runs[-2], run):
-            return runs, True
+            return runs, True, ""
+        need = clock() - t0 + 2.0 * run["time_s"]
+        if k < int(halvings) and need > cpu_cap:
+            return runs, (False if len(runs) > 1 else None), (
+                f"a run at dt {0.5 * dt:.3g} s would bring the CPU time to about {need:.0f} s, over dt_cpu_s = "
+                f"{cpu_cap:g} s")
         dt, hint = 0.5 * dt, run["alpha"]
-    return runs, (False if len(runs) > 1 else None)
+    return runs, (False if len(runs) > 1 else None), (f"dt_halvings = {int(halvings)} halvings done"
+                                                       if len(runs) > 1 else "")
 
 
 def knobs(given: dict) -> dict:
@@ -216,8 +232,9 @@ def main(argv) -> int:
             scene = RigidScene(job, job["gravity"], dt)
             return search(lambda a: scene.trial(a, p), p, lambda info: emit({**info, "dt": dt}), hint=hint)
 
-        runs, converged = converge_dt(search_at, dt, p["dt_halvings"], hint=job.get("hint"))
-        res = {"status": "done", "runs": runs, "dt_converged": converged, "params": p}
+        runs, converged, why = converge_dt(search_at, dt, p["dt_halvings"], hint=job.get("hint"),
+                                           cpu_cap=p["dt_cpu_s"])
+        res = {"status": "done", "runs": runs, "dt_converged": converged, "dt_stop": why, "params": p}
     except Unsupported as exc:
         res = {"status": "skipped", "reason": f"LMGC90 cannot model this scene: {exc}"}
     except ImportError as exc:
