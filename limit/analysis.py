@@ -123,8 +123,8 @@ def _from_turned_directions(scene, P, sol, part: StepResult, deg: int, options, 
     from limit.model.scene import load_scene
     from limit.model.turned_load import turned
 
-    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state",), direction_starts_deg=0,
-                                         friction_starts=False)
+    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state", "global_check", "iterative"),
+                                         direction_starts_deg=0, friction_starts=False)
     t0 = time.perf_counter()
 
     def states():

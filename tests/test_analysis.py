@@ -110,3 +110,31 @@ def test_an_unproven_global_minimum_is_reported_as_an_interval():
 
     row.update(global_status="time_limit", global_alpha=0.181726, global_lo=0.0421, global_hi=0.181726)
     assert any("lies in [0.0421, 0.181726]" in line for line in explain(row))
+
+
+def test_the_nearby_starts_run_no_global_milp_or_iterative_lp_of_their_own(monkeypatch):
+    """``--global`` (and ``--iterative-lp``) check the scene's own frictional problem once. The
+    nearby starts (the live load turned by +-5 deg, the mirrored reversed load) only supply
+    collapse states to try, so they run neither: each would cost a whole MILP time limit more.
+    A 3D stack of three blocks under a body force takes both nearby starts."""
+    from limit.solve import iterative_lp, milp
+    from scenes import builders as B
+
+    calls = {"milp": 0, "iterative": 0}
+    real_milp, real_it = milp.global_minimum, iterative_lp.solve
+
+    def counted_milp(*a, **k):
+        calls["milp"] += 1
+        return real_milp(*a, **k)
+
+    def counted_it(*a, **k):
+        calls["iterative"] += 1
+        return real_it(*a, **k)
+
+    monkeypatch.setattr(milp, "global_minimum", counted_milp)
+    monkeypatch.setattr(iterative_lp, "solve", counted_it)
+    sc = load_scene(B.stack(3, 3, 0.3, 0.5, mu=0.8))
+    part = analyse(sc, method="nlp", nlp_options={"global_check": True, "iterative": True}).data["nlp"]
+    assert [e["turn_deg"] for e in part["direction_starts"]] == [5, -5]
+    assert calls == {"milp": 1, "iterative": 1}
+    assert part["global"]["status"] == "optimal"
