@@ -168,6 +168,7 @@ def converge_dt(search_at, dt: float, halvings: int, hint=None, cpu_cap: float =
     is None, as when ``halvings`` is 0. Each run gets its ``dt`` and ``time_s``."""
     runs = []
     t0 = clock()
+    apart = lambda: False if len(runs) > 1 else None  # noqa: E731 - no check without a second run
     for k in range(int(halvings) + 1):
         t = clock()
         run = search_at(dt, hint)
@@ -179,12 +180,11 @@ def converge_dt(search_at, dt: float, halvings: int, hint=None, cpu_cap: float =
             return runs, True, ""
         need = clock() - t0 + 2.0 * run["time_s"]
         if k < int(halvings) and need > cpu_cap:
-            return runs, (False if len(runs) > 1 else None), (
+            return runs, apart(), (
                 f"a run at dt {0.5 * dt:.3g} s would bring the CPU time to about {need:.0f} s, over dt_cpu_s = "
                 f"{cpu_cap:g} s")
         dt, hint = 0.5 * dt, run["alpha"]
-    return runs, (False if len(runs) > 1 else None), (f"dt_halvings = {int(halvings)} halvings done"
-                                                       if len(runs) > 1 else "")
+    return runs, apart(), f"dt_halvings = {int(halvings)} halvings done" if len(runs) > 1 else ""
 
 
 def knobs(given: dict) -> dict:
