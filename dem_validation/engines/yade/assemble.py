@@ -11,7 +11,7 @@ from ..result import DemResult, Status, failed
 def assemble(raw: dict, p: dict) -> DemResult:
     """The DEM result from the YADE side's result (``{"status": "done"|"failed", "runs"}``)."""
     if raw.get("status") != "done":
-        # the runs that ended before the failure stay in the result (the vertex model's later run failed)
+        # a failed sequence keeps the runs that ended before the failure (per_stiffness)
         return failed(raw.get("reason", "DEM run failed"), **_keep(raw, "steps_total", "cpu_s", "progress", "runs"))
     runs = raw.get("runs") or []
     history = [dict(h, eps=r["eps"]) for r in runs for h in r.get("history", [])]
