@@ -90,7 +90,10 @@ def plot(df: pd.DataFrame, path) -> None:
             ax.plot(bad["blocks"], bad["time_s"], "x", color=line.get_color(), ms=9)
         ax.set(xscale="log", yscale="log", xlabel="free blocks", title=f"{dim}D (x: not verified)")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        if d.empty:  # no member of this dimension in the run
+            ax.text(0.5, 0.5, f"no {dim}D member run", transform=ax.transAxes, ha="center", va="center")
+        else:
+            ax.legend(fontsize=8)
     axes[0].set_ylabel("step 2 time (s)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
