@@ -118,11 +118,18 @@ class Settings:
         "the smallest relaxation; a start with no new low for large_stall LPs there stops as stalled, so "
         "that its budget goes to the other starts")
     large_stall: int = _s(
+        16, "large", "LPs",
+        "LPs without a new low of the complementarity residual that halve the relaxation (wall family: "
+        "with 8 a 626-block 2D wall's 0.25 mu start halves it to the floor and stops as stalled; with "
+        "16 and large_max_iter 300 it verifies at its 187th LP)")
+    large_stall_very_large: int = _s(
         8, "large", "LPs",
-        "LPs without a new low of the complementarity residual that halve the relaxation")
+        "large_stall from very_large_min_free free blocks on (2D), where the first start to verify ends "
+        "the route: the 10,050-block benchmark wall verified in 143-156 s with 8 and in 163-179 s with 16 "
+        "(the same alpha)")
     large_max_iter: int = _s(
-        100, "large", "LPs",
-        "LPs per start at most")
+        300, "large", "LPs",
+        "LPs per start at most (wall family: the 626-block wall's starts verify after 100 LPs and more)")
     large_prox: float = _s(
         0.03, "large", "-",
         "proximal weight of each LP from prox_min_free free blocks on, in 2D (limit.solve.iterative_lp's "

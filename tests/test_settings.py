@@ -62,12 +62,13 @@ def test_the_defaults_are_the_values_the_modules_had():
     # SNAP_PLATEAU, PLATEAU, SNAP_COMP_LARGE, SNAP_PLATEAU_LARGE, LP_TOL_FAR, FAR_COMP, LP_TOL_NEAR,
     # LEAST_SLACK_SUPPORT, START_FACTORS, START_FACTORS_LARGE, START_FACTORS_ONE_ROUND_3D and GRACE
     assert (DEFAULT.large_omega_2d, DEFAULT.large_omega_3d, DEFAULT.large_omega_one_round,
-            DEFAULT.large_omega_min, DEFAULT.large_stall, DEFAULT.large_max_iter) == (1.0, 0.5, 0.5, 0.125, 8, 100)
+            DEFAULT.large_omega_min, DEFAULT.large_stall, DEFAULT.large_max_iter) == (1.0, 0.5, 0.5, 0.125, 16, 300)
     assert (DEFAULT.large_prox, DEFAULT.large_snap_comp, DEFAULT.large_snap_plateau, DEFAULT.large_plateau,
             DEFAULT.large_snap_comp_very_large, DEFAULT.large_snap_plateau_very_large) == (0.03, 1e-3, 1e-2, 4, 1e-4, 1e-3)
     assert (DEFAULT.large_lp_tol_far, DEFAULT.large_far_comp, DEFAULT.large_lp_tol_near_2d,
             DEFAULT.large_least_slack_support, DEFAULT.large_grace) == (1e-4, 1e-2, 1e-7, 1e-6, 0.0)
     assert DEFAULT.large_start_factors == (1.0, 0.5, 0.25)
+    assert DEFAULT.large_stall_very_large == 8  # large_stall's value before the wall family asked for 16
     assert DEFAULT.large_start_factors_very_large == (0.5, 0.4)
     assert DEFAULT.large_start_factors_one_round_3d == (0.5, 0.25, 1.0)
 

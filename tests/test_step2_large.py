@@ -111,6 +111,22 @@ def test_a_start_whose_residual_stalls_stops_early(monkeypatch):
     assert r["iterations"] == (halvings + 1) * DEFAULT.large_stall + 1 < DEFAULT.large_max_iter
 
 
+def test_a_very_large_2d_wall_stalls_by_its_own_count(monkeypatch):
+    """The same forced stall with the wall counted as very large (very_large_min_free 1, 2D): the
+    relaxation halves every large_stall_very_large LPs instead of every large_stall, so the start
+    stops after (halvings + 1) x large_stall_very_large + 1 LPs, and its reason names that count."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    _set(monkeypatch, P, very_large_min_free=1, large_stall_very_large=5, large_stall=9)
+    monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
+    (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
+    r = step2_large.run_start(P, step2_large.build(P), n0, sol.alpha)
+    om, halvings = DEFAULT.large_omega_2d, 0  # 9 free blocks: not one round, so omega starts here
+    while om > DEFAULT.large_omega_min:
+        om, halvings = om / 2, halvings + 1
+    assert not r["verified"] and r["reason"].startswith("stalled") and "for 5 LPs" in r["reason"]
+    assert r["iterations"] == (halvings + 1) * 5 + 1
+
+
 def test_a_residual_that_stops_falling_is_snapped_from_its_best_iterate(monkeypatch):
     """Forced residuals 0.5, 5e-3, then 6e-3, 7e-3, ... (rising): never below large_snap_comp, so
     only the plateau rule snaps, once (each snap backend asked in turn), large_plateau LPs after

@@ -47,6 +47,24 @@ def test_family_member_4_verifies():
     assert out.alpha < sol.alpha * (1 - 1e-3)
 
 
+@pytest.mark.slow  # the large route's three starts on a 626-block wall, up to a few hundred LPs
+def test_default_family_member_10_verifies_with_the_longer_patience():
+    """Member 10 of the default family (seed 0, 24 members; 2D Flemish bond with two openings, 626
+    blocks, mu 1.2): with a stall count of 8 LPs and at most 100 LPs per start every start
+    stopped unverified (docs/performance.md, 'A longer patience'). With the defaults of
+    large_stall and large_max_iter step 2 must verify a frictional collapse state below the
+    LP's associative bound, passing the independent check."""
+    sc = wall_family(0, 24, (100, 10000))[10]
+    assert sc["meta"]["family"]["mu"] == 1.2 and sc["meta"]["family"]["openings"] == 2
+    P = assemble(load_scene(sc))
+    sol, _, _ = solve_lp(P)
+    out = step2_large.solve(P, sol)
+    assert out.ok, out.reason
+    ok, _, why = nlp.check(out.N, out.z, sol.alpha)
+    assert ok, why
+    assert out.alpha < sol.alpha * (1 - 1e-3)
+
+
 def test_the_dem_family_meets_every_kind_within_its_size_range():
     """The DEM cross-check family (``dem_member``): eight members, one per kind, 2D and 3D, each
     loadable with interfaces found, 15 to 200 free blocks, course heights of 50-60 mm in the

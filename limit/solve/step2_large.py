@@ -8,7 +8,8 @@ scenes whose associative LP has no mechanism):
    capacities ``mu N*`` as the right-hand side of :mod:`limit.solve.ipm`
    (:func:`limit.solve.iterative_lp.solve`, backend "ipm"), N* relaxed by omega (the settings
    ``large_omega_2d``, ``large_omega_3d``), halved whenever the complementarity residual has no
-   new low for ``large_stall`` LPs.
+   new low for ``large_stall`` LPs (``large_stall_very_large`` from ``very_large_min_free`` free
+   blocks on, 2D).
    Each LP answer is a point of the frictional problem: its statics, and as
    its dual the mechanism with flow ``G lam`` (no dilatancy).
 2. After each LP the point is checked (:func:`limit.solve.nlp.check`); once its
@@ -249,6 +250,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=Non
     retry_below = [snap_comp]
     snapped_at = [np.inf]  # the lowest residual a snap was tried at
     omega = cfg.large_omega_2d if P.scene.dim == 2 else cfg.large_omega_3d
+    stall = cfg.large_stall_very_large if _very_large(P) else cfg.large_stall
     relax = {"omega": min(omega, cfg.large_omega_one_round) if _one_round(P) else omega, "best": np.inf,
              "best_it": 0, "z": None}
 
@@ -285,9 +287,9 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=Non
         elif (it - relax["best_it"] == cfg.large_plateau and relax["best"] < min(snap_plateau, snapped_at[0])
               and try_snap(relax["z"], relax["best"], relax["best_it"])):
             return True
-        if it - relax["best_it"] >= cfg.large_stall and relax["omega"] > cfg.large_omega_min:
+        if it - relax["best_it"] >= stall and relax["omega"] > cfg.large_omega_min:
             relax.update(omega=relax["omega"] / 2.0, best_it=it)
-        elif it - relax["best_it"] >= cfg.large_stall:  # no new low at the smallest relaxation
+        elif it - relax["best_it"] >= stall:  # no new low at the smallest relaxation
             stalled.append(it)
             return True
         if comp < retry_below[0]:
@@ -313,7 +315,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=Non
         return {**rec, "verified": True, "alpha": float(found["z"][N.ia]), "z": found["z"], "how": found["how"]}
     if stalled:
         why = (f"stalled: the complementarity residual had no new low ({relax['best']:.1e}) for "
-               f"{cfg.large_stall} LPs at the smallest relaxation {cfg.large_omega_min:g}")
+               f"{stall} LPs at the smallest relaxation {cfg.large_omega_min:g}")
     elif stop is not None and time.perf_counter() > stop.at() and (deadline is None or stop.at() < deadline):
         grace = stop.grace
         why = f"stopped: another start had verified ({grace:.0%} of its time given to the others)" if grace \
