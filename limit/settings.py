@@ -125,11 +125,11 @@ class Settings:
     large_stall_very_large: int = _s(
         8, "large", "LPs",
         "large_stall from very_large_min_free free blocks on (2D), where the first start to verify ends "
-        "the route: the 10,050-block benchmark wall verified in 143-156 s with 8 and in 163-179 s with 16 "
-        "(the same alpha)")
+        "the route: with 16 the 10,050-block benchmark wall verified the same alpha more slowly "
+        "(docs/performance.md, 'A longer patience')")
     large_max_iter: int = _s(
         300, "large", "LPs",
-        "LPs per start at most (wall family: the 626-block wall's starts verify after 100 LPs and more)")
+        "LPs per start at most (wall family: a 626-block 2D wall's 0.25 mu start verifies at its 187th LP)")
     large_prox: float = _s(
         0.03, "large", "-",
         "proximal weight of each LP from prox_min_free free blocks on, in 2D (limit.solve.iterative_lp's "
