@@ -31,13 +31,9 @@ def test_members_are_reproducible_and_cover_the_ranges():
         assert 0.75 * m["target_blocks"] <= n <= 1.25 * m["target_blocks"], (sc["name"], n, m["target_blocks"])
 
 
-@pytest.mark.slow  # the large route's three starts on a 348-block wall
-def test_family_member_4_verifies():
-    """Member 4 of seed 0 (2D Flemish bond, 348 blocks, mu 0.7): without the least-slack snap every
-    start of the large route failed (152 LPs; docs/performance.md, 'The wall family'). Step 2 must
-    verify a frictional collapse state below the LP's associative bound, passing the
-    independent check."""
-    sc = member(0, 4, wall_family(0, 12, (100, 3000))[4]["meta"]["family"]["target_blocks"])
+def _assert_step2_verifies_below_the_lp(sc):
+    """The large route on scene ``sc`` verifies a frictional collapse state that passes the
+    independent check and lies below the LP's associative bound."""
     P = assemble(load_scene(sc))
     sol, _, _ = solve_lp(P)
     out = step2_large.solve(P, sol)
@@ -45,6 +41,16 @@ def test_family_member_4_verifies():
     ok, _, why = nlp.check(out.N, out.z, sol.alpha)
     assert ok, why
     assert out.alpha < sol.alpha * (1 - 1e-3)
+
+
+@pytest.mark.slow  # the large route's three starts on a 348-block wall
+def test_family_member_4_verifies():
+    """Member 4 of seed 0 (2D Flemish bond, 348 blocks, mu 0.7): without the least-slack snap every
+    start of the large route failed (152 LPs; docs/performance.md, 'The wall family'). Step 2 must
+    verify a frictional collapse state below the LP's associative bound, passing the
+    independent check."""
+    sc = member(0, 4, wall_family(0, 12, (100, 3000))[4]["meta"]["family"]["target_blocks"])
+    _assert_step2_verifies_below_the_lp(sc)
 
 
 @pytest.mark.slow  # the large route's three starts on a 626-block wall, up to a few hundred LPs
@@ -56,13 +62,7 @@ def test_default_family_member_10_verifies_with_the_longer_patience():
     LP's associative bound, passing the independent check."""
     sc = wall_family(0, 24, (100, 10000))[10]
     assert sc["meta"]["family"]["mu"] == 1.2 and sc["meta"]["family"]["openings"] == 2
-    P = assemble(load_scene(sc))
-    sol, _, _ = solve_lp(P)
-    out = step2_large.solve(P, sol)
-    assert out.ok, out.reason
-    ok, _, why = nlp.check(out.N, out.z, sol.alpha)
-    assert ok, why
-    assert out.alpha < sol.alpha * (1 - 1e-3)
+    _assert_step2_verifies_below_the_lp(sc)
 
 
 def test_the_dem_family_meets_every_kind_within_its_size_range():
