@@ -130,6 +130,11 @@ class Settings:
     large_max_iter: int = _s(
         300, "large", "LPs",
         "LPs per start at most (wall family: a 626-block 2D wall's 0.25 mu start verifies at its 187th LP)")
+    large_proximal_round: bool = _s(
+        True, "large", "-",
+        "2D, below prox_min_free free blocks: where no start verifies, the starts run again with each LP "
+        "the proximal QP (large_prox), while the budget lasts (wall family: a 3,098-block wall verifies "
+        "there and in no start of the first round)")
     large_prox: float = _s(
         0.03, "large", "-",
         "proximal weight of each LP from prox_min_free free blocks on, in 2D (limit.solve.iterative_lp's "

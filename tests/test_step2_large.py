@@ -201,6 +201,54 @@ def test_a_3d_wall_whose_lp_stalls_near_its_optimum_still_verifies(monkeypatch):
     assert not out.ok and "not converged" in out.reason
 
 
+def _plain_lps_fail(monkeypatch) -> list:
+    """Every start whose LPs are plain fails at once (forced); a start whose LPs are the proximal
+    QP runs as usual. Returns the list of the ``proximal`` argument of each start, as asked."""
+    real, asked = step2_large.run_start, []
+
+    def forced(P, N, nstar0, alpha_ref, proximal=None, **kw):
+        asked.append(proximal)
+        if not proximal:
+            return {"verified": False, "alpha": None, "z": None, "how": None, "iterations": 0, "snaps": 0,
+                    "time_s": 0.0, "reason": "forced failure"}
+        return real(P, N, nstar0, alpha_ref, proximal=proximal, **kw)
+    monkeypatch.setattr(step2_large, "run_start", forced)
+    return asked
+
+
+def test_where_no_start_verifies_the_starts_run_again_with_the_proximal_qp(monkeypatch):
+    """2D side-by-side blocks (scenes.builders.side_by_side, mu 0.5): the slender block rocks on
+    the squat one and pushes it to slide; the builder's work and equilibrium equations give
+    alpha = 23/61 (its docstring), below the associative LP's 7/17. With every plain-LP start
+    failing (forced), the route runs its starts again, each LP the proximal QP
+    (large_proximal_round), and that round verifies 23/61; with the setting off it fails."""
+    P, sol = _solved(B.side_by_side(dim=2, mu=0.5))
+    asked = _plain_lps_fail(monkeypatch)
+    out = step2_large.solve(P, sol, workers=1)
+    labels = [r["start"] for r in out.starts]
+    assert labels == ["lp", "lp-mu*0.5", "lp-mu*0.25", "lp (proximal)", "lp-mu*0.5 (proximal)", "lp-mu*0.25 (proximal)"]
+    assert asked == [None] * 3 + [True] * 3
+    assert out.ok and out.start.endswith("(proximal)") and out.alpha == pytest.approx(23 / 61, rel=1e-6)
+    _set(monkeypatch, P, large_proximal_round=False)
+    out = step2_large.solve(P, sol, workers=1)
+    assert not out.ok and len(out.starts) == 3 and "forced failure" in out.reason
+
+
+def test_the_proximal_round_runs_neither_in_3d_nor_where_the_lps_are_proximal_already(monkeypatch):
+    """The same forced failure: a 3D wall (the second round rescued no 3D scene measured) and a
+    2D wall counted from prox_min_free free blocks on (its first round is proximal already) end
+    after their first round."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=3, mu=0.9))
+    _plain_lps_fail(monkeypatch)
+    out = step2_large.solve(P, sol, workers=1)
+    assert not out.ok and len(out.starts) == 3
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    _set(monkeypatch, P, prox_min_free=1, large_proximal_round=True)
+    asked = _plain_lps_fail(monkeypatch)
+    out = step2_large.solve(P, sol, workers=1)
+    assert asked == [None] * 3 and len(out.starts) == 3
+
+
 def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
     """In 3D, from one_round_min_free free blocks on, the one round's starts are the LPs at 0.5 mu
     and 0.25 mu (START_FACTORS_ONE_ROUND_3D: the associative LP's own start measured slowest
@@ -210,7 +258,7 @@ def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
         [lab for lab, _ in plan]) or [step2_large._not_run("spied")] * len(plan))
     for dim in (3, 2):
         P, sol = _solved(B.running_bond_wall(3, 3, dim=dim, mu=0.9))
-        _set(monkeypatch, P, one_round_min_free=5)
+        _set(monkeypatch, P, one_round_min_free=5, large_proximal_round=False)
         step2_large.solve(P, sol, workers=2)
     assert seen == [["lp-mu*0.5", "lp-mu*0.25"], ["lp", "lp-mu*0.5"]]
 
@@ -306,7 +354,8 @@ def test_the_routes_tuned_numbers_are_read_from_the_settings(monkeypatch):
     from limit.solve import iterative_lp
 
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
-    _set(monkeypatch, P, large_start_factors=(0.5,), large_omega_2d=0.25, large_max_iter=3)
+    _set(monkeypatch, P, large_start_factors=(0.5,), large_omega_2d=0.25, large_max_iter=3,
+         large_proximal_round=False)
     omegas, caps = [], []
     real = iterative_lp.solve
 

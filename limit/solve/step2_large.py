@@ -31,6 +31,12 @@ scenes whose associative LP has no mechanism):
    lowest verified alpha is kept. Each verified alpha is a
    non-associative collapse state: an upper bound of the global frictional
    minimum, not the minimum itself.
+4. In 2D below ``prox_min_free`` free blocks (plain LPs), where no start verifies, the same
+   starts run again with each LP the proximal QP (``large_prox``; the setting
+   ``large_proximal_round``), while the budget lasts: on a 3,098-block wall of the wall family
+   the plain iteration stalls and the proximal one verifies, on a 626-block one the reverse
+   (docs/performance.md, 'A second round with the proximal QP'). In 3D it rescued neither a
+   1,295-block wall nor the imported dome, so it does not run there.
 
 When the associative LP is unbounded (sliding needs dilatancy, e.g. a block
 wedged between two fixed surfaces), the first N* comes from an equilibrium of
@@ -98,6 +104,12 @@ def _one_round(P) -> bool:
     """At least one_round_min_free free blocks: one round of starts, relaxation at most
     large_omega_one_round."""
     return _free_blocks(P) >= settings.of(P).one_round_min_free
+
+
+def _proximal_by_size(P) -> bool:
+    """Whether each LP of a start is the proximal QP from the first round: 2D, from
+    prox_min_free free blocks on."""
+    return P.scene.dim == 2 and _free_blocks(P) >= settings.of(P).prox_min_free
 
 
 def _very_large(P) -> bool:
@@ -229,10 +241,12 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
     return Snap(N.join(st.z[0], st.z[1:], vh, lamh), f"piece LP ({rule}, in two parts) with {act.size} flowing faces")
 
 
-def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=None, stop=None) -> dict:
+def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=None, stop=None,
+              proximal: bool | None = None) -> dict:
     """One start: iterate (at most ``max_iter`` LPs, default the setting large_max_iter), check
     each LP point, snap near complementarity (with the LP ``backend`` of :mod:`limit.solve.lpsub`,
-    default each of :data:`SNAP_BACKENDS` in turn). ``stop``
+    default each of :data:`SNAP_BACKENDS` in turn). ``proximal``: each LP is the proximal QP
+    (the setting large_prox) or not (None: :func:`_proximal_by_size`). ``stop``
     (a :class:`_Stop`, None: none): the time another start set for every start to stop (it ends
     this one like its deadline), which this one sets in turn when it verifies. Returns
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
@@ -305,7 +319,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=Non
                              nstar0=nstar0, on_iterate=on_iterate,
                              lp_tol=lambda: cfg.large_lp_tol_far if relax["best"] > cfg.large_far_comp else near,
                              warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS,
-                             prox=cfg.large_prox if P.scene.dim == 2 and _free_blocks(P) >= cfg.prox_min_free
+                             prox=cfg.large_prox if (_proximal_by_size(P) if proximal is None else proximal)
                              else None)
     rec = {"iterations": out.iterations, "snaps": snaps[0], "time_s": time.perf_counter() - t0,
            "omega": relax["omega"]}
@@ -347,6 +361,26 @@ class _Stop:
         self.value.value = min(self.at(), end)
 
 
+def _round(P, lp_sol, plan, alpha_ref, deadline, N, workers, t0, soft, proximal) -> tuple[int, list]:
+    """One round of the starts of ``plan``: (workers used, one result per start), in parallel
+    when ``workers`` > 1 and processes can be started, else one after another. ``t0`` (None:
+    the starts do not stop each other) and ``soft``: see :class:`_Stop`; ``proximal``: see
+    :func:`run_start`."""
+    if workers > 1:
+        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0, soft, proximal)
+        if results is not None:
+            return workers, results
+    results = []
+    stop = _Stop(t0, soft=soft, grace=settings.of(P).large_grace) if t0 is not None else None
+    for label, start in plan:
+        if deadline is not None and any(r["verified"] for r in results) and \
+                time.perf_counter() > (deadline if soft is None else soft):
+            results.append(_not_run("time budget spent"))
+            continue
+        results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N, stop, proximal)))
+    return 1, results
+
+
 def _not_run(why: str) -> dict:
     return {"verified": False, "not_run": True, "reason": why, "z": None, "iterations": 0, "snaps": 0,
             "time_s": 0.0}
@@ -358,7 +392,7 @@ def _start_job(args) -> dict:
     iteration. ``deadline``: absolute time.perf_counter() (CLOCK_MONOTONIC on Linux: the same
     clock in every process), so a start that waited for a free worker gets only what is left
     of the run's budget. ``N``: the problem built already (None in a worker: built there)."""
-    P, lp_sol, start, alpha_ref, deadline, N, stop = args
+    P, lp_sol, start, alpha_ref, deadline, N, stop, proximal = args
     if stop is None and _SHARED_STOP is not None:  # a worker process: the route's shared stop time
         stop = _SHARED_STOP
     if deadline is not None and time.perf_counter() > deadline:
@@ -368,7 +402,8 @@ def _start_job(args) -> dict:
     nstar0 = start_nstar(P, lp_sol, start) if isinstance(start, float) else start
     if nstar0 is None:
         return _not_run(f"the associative LP at mu x {start:g} has no optimum")
-    return run_start(P, build(P) if N is None else N, nstar0, alpha_ref, deadline=deadline, stop=stop)
+    return run_start(P, build(P) if N is None else N, nstar0, alpha_ref, deadline=deadline, stop=stop,
+                     proximal=proximal)
 
 
 #: the route's stop time in a worker process (set by _init_worker when the pool forks)
@@ -380,11 +415,11 @@ def _init_worker(stop) -> None:
     _SHARED_STOP = stop
 
 
-def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=None) -> list | None:
+def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=None, proximal=None) -> list | None:
     """Every start at once in ``workers`` processes; None when processes cannot be started
     here (e.g. inside a daemonic worker): the caller then runs them one after another. ``t0``
     (None: the starts do not stop each other): the route's start, for the shared :class:`_Stop`
-    (with ``soft``, its soft end)."""
+    (with ``soft``, its soft end). ``proximal``: see :func:`run_start`."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
 
@@ -393,7 +428,8 @@ def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=N
         stop = None if t0 is None else _Stop(t0, ctx.Value("d", np.inf), soft, settings.of(P).large_grace)
         with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                  initargs=(stop,)) as ex:
-            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None, None) for _, s in plan]))
+            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None, None, proximal)
+                                            for _, s in plan]))
     except (OSError, AssertionError, RuntimeError):
         return None
 
@@ -437,26 +473,25 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     grace = _very_large(P)  # the starts stop large_grace after the first verified one (2D, very large)
     shared = grace or soft is not None  # the starts stop each other
     soft = None if grace else soft
-    results = None
-    if workers > 1:
-        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0 if shared else None, soft)
-    if results is None:
-        workers, results = 1, []
-        stop = _Stop(t0, soft=soft, grace=settings.of(P).large_grace) if shared else None
-        for label, start in plan:
-            if deadline is not None and any(r["verified"] for r in results) and \
-                    time.perf_counter() > (deadline if soft is None else soft):
-                results.append(_not_run("time budget spent"))
-                continue
-            results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N, stop)))
     runs, best = [], None
-    for (label, _), r in zip(plan, results):
-        runs.append({"start": label, **{k: v for k, v in r.items() if k != "z"}})
-        log.info("step 2, large-scale route, start %s: %s (%.1f s)", label,
-                 f"alpha {r['alpha']:.6g}, verified" if r["verified"] else r.get("reason", "not verified"),
-                 r.get("time_s") or 0.0)
-        if r["verified"] and (best is None or r["alpha"] < best[0]):
-            best = (r["alpha"], r["z"], label)
+    rounds = [(None, "")]  # (proximal, label suffix): the first round's LPs by size
+    if P.scene.dim == 2 and not _proximal_by_size(P) and settings.of(P).large_proximal_round:
+        rounds.append((True, " (proximal)"))
+    for proximal, suffix in rounds:
+        if best is not None or (deadline is not None and time.perf_counter() > deadline):
+            break
+        if suffix:
+            log.info("step 2, large-scale route: no start verified; the starts again, each LP the proximal QP")
+        t_round = time.perf_counter() if suffix else t0  # the shared stop's origin
+        workers, results = _round(P, lp_sol, plan, alpha_ref, deadline, N, min(len(plan), cores),
+                                  t_round if shared else None, soft, proximal)
+        for (label, _), r in zip(plan, results):
+            runs.append({"start": label + suffix, **{k: v for k, v in r.items() if k != "z"}})
+            log.info("step 2, large-scale route, start %s: %s (%.1f s)", label + suffix,
+                     f"alpha {r['alpha']:.6g}, verified" if r["verified"] else r.get("reason", "not verified"),
+                     r.get("time_s") or 0.0)
+            if r["verified"] and (best is None or r["alpha"] < best[0]):
+                best = (r["alpha"], r["z"], label + suffix)
     if best is None:
         return RouteOutcome(False, N=N, starts=runs, time_s=time.perf_counter() - t0, workers=workers,
                             reason="no start reached a verified point: "
