@@ -137,7 +137,8 @@ class Settings:
         "there and in no start of the first round)")
     large_prox: float = _s(
         0.03, "large", "-",
-        "proximal weight of each LP from prox_min_free free blocks on, in 2D (limit.solve.iterative_lp's "
+        "proximal weight of each LP from prox_min_free free blocks on, in 2D, and in the round of "
+        "large_proximal_round (limit.solve.iterative_lp's "
         "prox): the normal forces are pulled toward N* so that the statics stop jumping across a "
         "degenerate optimal face")
     large_snap_comp: float = _s(
