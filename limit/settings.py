@@ -135,6 +135,11 @@ class Settings:
         "2D, below prox_min_free free blocks: where no start verifies, the starts run again with each LP "
         "the proximal QP (large_prox), while the budget lasts (wall family: a 3,098-block wall verifies "
         "there and in no start of the first round)")
+    large_patience_round_3d: float = _s(
+        2.0, "large", "-",
+        "3D: where no start verifies, the starts run again with large_stall and large_max_iter this many "
+        "times the settings' (1: no second round), while the budget lasts (wall family: a 1,295-block 3D "
+        "wall verifies with 32 and 600, in no start with 16 and 300, nor with the proximal QP)")
     large_prox: float = _s(
         0.03, "large", "-",
         "proximal weight of each LP from prox_min_free free blocks on, in 2D, and in the round of "

@@ -197,21 +197,23 @@ def test_a_3d_wall_whose_lp_stalls_near_its_optimum_still_verifies(monkeypatch):
     out = step2_large.solve(P, sol, workers=1)
     assert out.ok and out.n_verified == 3 and out.alpha == pytest.approx(0.7, abs=1e-9)
     monkeypatch.setattr(iterative_lp, "ITERATIVE_ALMOST", None)
+    _set(monkeypatch, P, large_patience_round_3d=1.0)  # the first round's failure, not a second round's
     out = step2_large.solve(P, sol, workers=1)
     assert not out.ok and "not converged" in out.reason
 
 
 def _plain_lps_fail(monkeypatch) -> list:
-    """Every start whose LPs are plain fails at once (forced); a start whose LPs are the proximal
-    QP runs as usual. Returns the list of the ``proximal`` argument of each start, as asked."""
+    """Every start of a first round (plain LPs, patience 1) fails at once (forced); a start of a
+    second round (proximal LPs, or more patience) runs as usual. Returns the (proximal,
+    patience) of each start, as asked."""
     real, asked = step2_large.run_start, []
 
-    def forced(P, N, nstar0, alpha_ref, proximal=None, **kw):
-        asked.append(proximal)
-        if not proximal:
+    def forced(P, N, nstar0, alpha_ref, proximal=None, patience=1.0, **kw):
+        asked.append((proximal, patience))
+        if not proximal and patience == 1.0:
             return {"verified": False, "alpha": None, "z": None, "how": None, "iterations": 0, "snaps": 0,
                     "time_s": 0.0, "reason": "forced failure"}
-        return real(P, N, nstar0, alpha_ref, proximal=proximal, **kw)
+        return real(P, N, nstar0, alpha_ref, proximal=proximal, patience=patience, **kw)
     monkeypatch.setattr(step2_large, "run_start", forced)
     return asked
 
@@ -227,26 +229,53 @@ def test_where_no_start_verifies_the_starts_run_again_with_the_proximal_qp(monke
     out = step2_large.solve(P, sol, workers=1)
     labels = [r["start"] for r in out.starts]
     assert labels == ["lp", "lp-mu*0.5", "lp-mu*0.25", "lp (proximal)", "lp-mu*0.5 (proximal)", "lp-mu*0.25 (proximal)"]
-    assert asked == [None] * 3 + [True] * 3
+    assert asked == [(None, 1.0)] * 3 + [(True, 1.0)] * 3
     assert out.ok and out.start.endswith("(proximal)") and out.alpha == pytest.approx(23 / 61, rel=1e-6)
     _set(monkeypatch, P, large_proximal_round=False)
     out = step2_large.solve(P, sol, workers=1)
     assert not out.ok and len(out.starts) == 3 and "forced failure" in out.reason
 
 
-def test_the_proximal_round_runs_neither_in_3d_nor_where_the_lps_are_proximal_already(monkeypatch):
-    """The same forced failure: a 3D wall (the second round rescued no 3D scene measured) and a
-    2D wall counted from prox_min_free free blocks on (its first round is proximal already) end
-    after their first round."""
-    P, sol = _solved(B.running_bond_wall(3, 3, dim=3, mu=0.9))
-    _plain_lps_fail(monkeypatch)
+def test_in_3d_the_second_round_is_a_patient_one(monkeypatch):
+    """The same blocks in 3D (the closed form holds for any thickness: every term of it scales
+    with t) and the same forced failure: the second round keeps plain LPs and multiplies the
+    stall count and the LP cap by large_patience_round_3d, and verifies 23/61; with that
+    setting 1 there is no second round."""
+    P, sol = _solved(B.side_by_side(dim=3, mu=0.5))
+    asked = _plain_lps_fail(monkeypatch)
+    out = step2_large.solve(P, sol, workers=1)
+    assert [r["start"] for r in out.starts][3:] == ["lp (patient)", "lp-mu*0.5 (patient)", "lp-mu*0.25 (patient)"]
+    assert asked == [(None, 1.0)] * 3 + [(None, DEFAULT.large_patience_round_3d)] * 3
+    assert out.ok and out.start.endswith("(patient)") and out.alpha == pytest.approx(23 / 61, rel=1e-6)
+    _set(monkeypatch, P, large_patience_round_3d=1.0)
     out = step2_large.solve(P, sol, workers=1)
     assert not out.ok and len(out.starts) == 3
+
+
+def test_a_patient_start_stalls_after_that_many_times_the_lps(monkeypatch):
+    """With every check failing (forced, residual 1.0 at every LP), a start halves its relaxation
+    every large_stall LPs and stops as stalled large_stall LPs after the last halving: with
+    patience 2, (halvings + 1) x 2 large_stall + 1 LPs."""
+    P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
+    monkeypatch.setattr(nlp, "check", lambda N, z, a: (False, {"complementarity": 1.0}, "forced failure"))
+    (label, n0), = step2_large.starts(P, sol, factors=(1.0,))
+    r = step2_large.run_start(P, step2_large.build(P), n0, sol.alpha, patience=2.0)
+    om, halvings = DEFAULT.large_omega_2d, 0
+    while om > DEFAULT.large_omega_min:
+        om, halvings = om / 2, halvings + 1
+    stall = 2 * DEFAULT.large_stall
+    assert r["reason"].startswith("stalled") and f"for {stall} LPs" in r["reason"]
+    assert r["iterations"] == (halvings + 1) * stall + 1
+
+
+def test_the_proximal_round_does_not_run_where_the_lps_are_proximal_already(monkeypatch):
+    """The same forced failure on a 2D wall counted from prox_min_free free blocks on (its first
+    round is proximal already): no second round."""
     P, sol = _solved(B.running_bond_wall(3, 3, dim=2, L=0.4, H=0.3, mu=0.9))
     _set(monkeypatch, P, prox_min_free=1, large_proximal_round=True)
     asked = _plain_lps_fail(monkeypatch)
     out = step2_large.solve(P, sol, workers=1)
-    assert asked == [None] * 3 and len(out.starts) == 3
+    assert asked == [(None, 1.0)] * 3 and len(out.starts) == 3
 
 
 def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
@@ -258,7 +287,7 @@ def test_large_3d_walls_start_from_the_reduced_friction_lps(monkeypatch):
         [lab for lab, _ in plan]) or [step2_large._not_run("spied")] * len(plan))
     for dim in (3, 2):
         P, sol = _solved(B.running_bond_wall(3, 3, dim=dim, mu=0.9))
-        _set(monkeypatch, P, one_round_min_free=5, large_proximal_round=False)
+        _set(monkeypatch, P, one_round_min_free=5, large_proximal_round=False, large_patience_round_3d=1.0)
         step2_large.solve(P, sol, workers=2)
     assert seen == [["lp-mu*0.5", "lp-mu*0.25"], ["lp", "lp-mu*0.5"]]
 

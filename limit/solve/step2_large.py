@@ -35,8 +35,10 @@ scenes whose associative LP has no mechanism):
    starts run again with each LP the proximal QP (``large_prox``; the setting
    ``large_proximal_round``), while the budget lasts: on a 3,098-block wall of the wall family
    the plain iteration stalls and the proximal one verifies, on a 626-block one the reverse
-   (docs/performance.md, 'A second round with the proximal QP'). In 3D it rescued neither a
-   1,295-block wall nor the imported dome, so it does not run there.
+   (docs/performance.md, 'A second round with the proximal QP'). In 3D, where it rescued
+   neither a 1,295-block wall nor the imported dome, the second round is a patient one instead:
+   the stall count and the LP cap ``large_patience_round_3d`` times the settings', with which
+   that wall verifies.
 
 When the associative LP is unbounded (sliding needs dilatancy, e.g. a block
 wedged between two fixed surfaces), the first N* comes from an equilibrium of
@@ -242,11 +244,12 @@ def snap(N, z, rule: str = "ratio", backend: str = "highs", deadline: float | No
 
 
 def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=None, stop=None,
-              proximal: bool | None = None) -> dict:
+              proximal: bool | None = None, patience: float = 1.0) -> dict:
     """One start: iterate (at most ``max_iter`` LPs, default the setting large_max_iter), check
     each LP point, snap near complementarity (with the LP ``backend`` of :mod:`limit.solve.lpsub`,
     default each of :data:`SNAP_BACKENDS` in turn). ``proximal``: each LP is the proximal QP
-    (the setting large_prox) or not (None: :func:`_proximal_by_size`). ``stop``
+    (the setting large_prox) or not (None: :func:`_proximal_by_size`); ``patience``: the stall count
+    and the default LP cap are this many times the settings'. ``stop``
     (a :class:`_Stop`, None: none): the time another start set for every start to stop (it ends
     this one like its deadline), which this one sets in turn when it verifies. Returns
     {"verified", "alpha", "z", "iterations", "snaps", "how", "time_s", "reason"}."""
@@ -264,7 +267,7 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=Non
     retry_below = [snap_comp]
     snapped_at = [np.inf]  # the lowest residual a snap was tried at
     omega = cfg.large_omega_2d if P.scene.dim == 2 else cfg.large_omega_3d
-    stall = cfg.large_stall_very_large if _very_large(P) else cfg.large_stall
+    stall = round(patience * (cfg.large_stall_very_large if _very_large(P) else cfg.large_stall))
     relax = {"omega": min(omega, cfg.large_omega_one_round) if _one_round(P) else omega, "best": np.inf,
              "best_it": 0, "z": None}
 
@@ -315,7 +318,8 @@ def run_start(P, N, nstar0, alpha_ref, deadline=None, max_iter=None, backend=Non
 
     near = cfg.large_lp_tol_near_2d if P.scene.dim == 2 else None  # None: ipm's own tolerance
     out = iterative_lp.solve(P, None, omega=lambda: relax["omega"], tol=1e-10,
-                             max_iter=cfg.large_max_iter if max_iter is None else max_iter, backend="ipm",
+                             max_iter=round(patience * cfg.large_max_iter) if max_iter is None else max_iter,
+                             backend="ipm",
                              nstar0=nstar0, on_iterate=on_iterate,
                              lp_tol=lambda: cfg.large_lp_tol_far if relax["best"] > cfg.large_far_comp else near,
                              warm_start=_one_round(P) and P.scene.dim in WARM_START_DIMS,
@@ -361,13 +365,13 @@ class _Stop:
         self.value.value = min(self.at(), end)
 
 
-def _round(P, lp_sol, plan, alpha_ref, deadline, N, workers, t0, soft, proximal) -> tuple[int, list]:
+def _round(P, lp_sol, plan, alpha_ref, deadline, N, workers, t0, soft, opts) -> tuple[int, list]:
     """One round of the starts of ``plan``: (workers used, one result per start), in parallel
     when ``workers`` > 1 and processes can be started, else one after another. ``t0`` (None:
-    the starts do not stop each other) and ``soft``: see :class:`_Stop`; ``proximal``: see
-    :func:`run_start`."""
+    the starts do not stop each other) and ``soft``: see :class:`_Stop`; ``opts``: keywords of
+    :func:`run_start` for every start of the round (``proximal``, ``patience``)."""
     if workers > 1:
-        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0, soft, proximal)
+        results = _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0, soft, opts)
         if results is not None:
             return workers, results
     results = []
@@ -377,8 +381,21 @@ def _round(P, lp_sol, plan, alpha_ref, deadline, N, workers, t0, soft, proximal)
                 time.perf_counter() > (deadline if soft is None else soft):
             results.append(_not_run("time budget spent"))
             continue
-        results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N, stop, proximal)))
+        results.append(_start_job((P, lp_sol, start, alpha_ref, deadline, N, stop, opts)))
     return 1, results
+
+
+def _rounds(P) -> list:
+    """The route's rounds of starts, as (keywords of :func:`run_start`, label suffix): the first,
+    then, run only where no start of the first verifies, in 2D below prox_min_free free blocks
+    the proximal one (large_proximal_round), in 3D the patient one (large_patience_round_3d)."""
+    cfg = settings.of(P)
+    rounds = [({}, "")]
+    if P.scene.dim == 2 and not _proximal_by_size(P) and cfg.large_proximal_round:
+        rounds.append(({"proximal": True}, " (proximal)"))
+    elif P.scene.dim == 3 and cfg.large_patience_round_3d > 1.0:
+        rounds.append(({"patience": cfg.large_patience_round_3d}, " (patient)"))
+    return rounds
 
 
 def _not_run(why: str) -> dict:
@@ -392,7 +409,7 @@ def _start_job(args) -> dict:
     iteration. ``deadline``: absolute time.perf_counter() (CLOCK_MONOTONIC on Linux: the same
     clock in every process), so a start that waited for a free worker gets only what is left
     of the run's budget. ``N``: the problem built already (None in a worker: built there)."""
-    P, lp_sol, start, alpha_ref, deadline, N, stop, proximal = args
+    P, lp_sol, start, alpha_ref, deadline, N, stop, opts = args
     if stop is None and _SHARED_STOP is not None:  # a worker process: the route's shared stop time
         stop = _SHARED_STOP
     if deadline is not None and time.perf_counter() > deadline:
@@ -403,7 +420,7 @@ def _start_job(args) -> dict:
     if nstar0 is None:
         return _not_run(f"the associative LP at mu x {start:g} has no optimum")
     return run_start(P, build(P) if N is None else N, nstar0, alpha_ref, deadline=deadline, stop=stop,
-                     proximal=proximal)
+                     **(opts or {}))
 
 
 #: the route's stop time in a worker process (set by _init_worker when the pool forks)
@@ -415,11 +432,11 @@ def _init_worker(stop) -> None:
     _SHARED_STOP = stop
 
 
-def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=None, proximal=None) -> list | None:
+def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=None, opts=None) -> list | None:
     """Every start at once in ``workers`` processes; None when processes cannot be started
     here (e.g. inside a daemonic worker): the caller then runs them one after another. ``t0``
     (None: the starts do not stop each other): the route's start, for the shared :class:`_Stop`
-    (with ``soft``, its soft end). ``proximal``: see :func:`run_start`."""
+    (with ``soft``, its soft end). ``opts``: see :func:`_round`."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
 
@@ -428,7 +445,7 @@ def _run_parallel(P, lp_sol, plan, alpha_ref, deadline, workers, t0=None, soft=N
         stop = None if t0 is None else _Stop(t0, ctx.Value("d", np.inf), soft, settings.of(P).large_grace)
         with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                  initargs=(stop,)) as ex:
-            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None, None, proximal)
+            return list(ex.map(_start_job, [(P, lp_sol, s, alpha_ref, deadline, None, None, opts)
                                             for _, s in plan]))
     except (OSError, AssertionError, RuntimeError):
         return None
@@ -474,17 +491,16 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     shared = grace or soft is not None  # the starts stop each other
     soft = None if grace else soft
     runs, best = [], None
-    rounds = [(None, "")]  # (proximal, label suffix): the first round's LPs by size
-    if P.scene.dim == 2 and not _proximal_by_size(P) and settings.of(P).large_proximal_round:
-        rounds.append((True, " (proximal)"))
-    for proximal, suffix in rounds:
+    for opts, suffix in _rounds(P):
         if best is not None or (deadline is not None and time.perf_counter() > deadline):
             break
         if suffix:
-            log.info("step 2, large-scale route: no start verified; the starts again, each LP the proximal QP")
+            log.info("step 2, large-scale route: no start verified; the starts again%s",
+                     ", each LP the proximal QP" if opts.get("proximal") else
+                     f", {opts['patience']:g} times as patient")
         t_round = time.perf_counter() if suffix else t0  # the shared stop's origin
         workers, results = _round(P, lp_sol, plan, alpha_ref, deadline, N, min(len(plan), cores),
-                                  t_round if shared else None, soft, proximal)
+                                  t_round if shared else None, soft, opts)
         for (label, _), r in zip(plan, results):
             runs.append({"start": label + suffix, **{k: v for k, v in r.items() if k != "z"}})
             log.info("step 2, large-scale route, start %s: %s (%.1f s)", label + suffix,
