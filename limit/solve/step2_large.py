@@ -386,15 +386,17 @@ def _round(P, lp_sol, plan, alpha_ref, deadline, N, workers, t0, soft, opts) -> 
 
 
 def _rounds(P) -> list:
-    """The route's rounds of starts, as (keywords of :func:`run_start`, label suffix): the first,
-    then, run only where no start of the first verifies, in 2D below prox_min_free free blocks
-    the proximal one (large_proximal_round), in 3D the patient one (large_patience_round_3d)."""
+    """The route's rounds of starts, as (keywords of :func:`run_start`, label suffix, what it
+    does): the first, then, run only where no start of the first verifies, in 2D below
+    prox_min_free free blocks the proximal one (large_proximal_round), in 3D the patient one
+    (large_patience_round_3d)."""
     cfg = settings.of(P)
-    rounds = [({}, "")]
+    rounds = [({}, "", "")]
     if P.scene.dim == 2 and not _proximal_by_size(P) and cfg.large_proximal_round:
-        rounds.append(({"proximal": True}, " (proximal)"))
+        rounds.append(({"proximal": True}, " (proximal)", "each LP the proximal QP"))
     elif P.scene.dim == 3 and cfg.large_patience_round_3d > 1.0:
-        rounds.append(({"patience": cfg.large_patience_round_3d}, " (patient)"))
+        f = cfg.large_patience_round_3d
+        rounds.append(({"patience": f}, " (patient)", f"{f:g} times as patient"))
     return rounds
 
 
@@ -491,15 +493,14 @@ def solve(P, lp_sol, time_budget: float | None = None, factors=None, workers: in
     shared = grace or soft is not None  # the starts stop each other
     soft = None if grace else soft
     runs, best = [], None
-    for opts, suffix in _rounds(P):
+    procs = workers
+    for opts, suffix, what in _rounds(P):
         if best is not None or (deadline is not None and time.perf_counter() > deadline):
             break
         if suffix:
-            log.info("step 2, large-scale route: no start verified; the starts again%s",
-                     ", each LP the proximal QP" if opts.get("proximal") else
-                     f", {opts['patience']:g} times as patient")
+            log.info("step 2, large-scale route: no start verified; the starts again, %s", what)
         t_round = time.perf_counter() if suffix else t0  # the shared stop's origin
-        workers, results = _round(P, lp_sol, plan, alpha_ref, deadline, N, min(len(plan), cores),
+        workers, results = _round(P, lp_sol, plan, alpha_ref, deadline, N, procs,
                                   t_round if shared else None, soft, opts)
         for (label, _), r in zip(plan, results):
             runs.append({"start": label + suffix, **{k: v for k, v in r.items() if k != "z"}})
