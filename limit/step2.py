@@ -291,7 +291,7 @@ def adopt_dem_state(P, lp_sol, part, dem_state: dict) -> tuple[StepResult, dict]
 
     part = StepResult.from_dict(part)
     source = dem_state.get("source") or "dem"
-    r = dem_start.solve(P, lp_sol, dem_state.get("displacement") or {})
+    r = dem_start.solve(P, lp_sol, dem_state.get("displacement") or {}, forces=dem_state.get("forces"))
     own = part.alpha if part.status in ANSWERED else None
     adopt = r["status"] == Status.OPTIMAL and lower(r["alpha"], own, settings.of(P).lower_by)
     reason = (f"verified, not below step 2's {own:.6g}" if r["status"] == Status.OPTIMAL and not adopt
@@ -303,11 +303,16 @@ def adopt_dem_state(P, lp_sol, part, dem_state: dict) -> tuple[StepResult, dict]
         entry["dem_alpha"] = dem_state["alpha"]
     if not adopt:
         return part.updated(dem_start=entry), entry
+    if r["tau"] is None:  # from the run's contact forces
+        solver, how = "iterative-lp", f"the {source} run's contact forces at its highest equilibrium"
+    else:
+        solver = "piece-lp"
+        how = (f"the {source} run's collapse state (flowing faces: multipliers above {r['tau']:g} of the "
+               f"largest, {r['n_flowing']})")
     return _answer(part, {"dem_start": entry}, _point_part(P, r["N"], r["z"]), status=Status.OPTIMAL,
-                   alpha=r["alpha"], alpha_step2=own, route="dem-start", solver="piece-lp",
+                   alpha=r["alpha"], alpha_step2=own, route="dem-start", solver=solver,
                    verification=r["residuals"],
-                   reason=(f"the {source} run's collapse state (flowing faces: multipliers above {r['tau']:g} of the "
-                           f"largest, {r['n_flowing']}) gave a verified point below step 2's "
+                   reason=(f"{how} gave a verified point below step 2's "
                            + (f"{own:.6g}" if own is not None else "failure"))), entry
 
 

@@ -64,6 +64,23 @@ def test_single_block_rocks_at_b_over_h(dim):
     assert u[0] > 0
 
 
+def test_the_contact_forces_at_the_highest_equilibrium_carry_the_block():
+    """At its highest equilibrium alpha_lo the one free block is held by the base alone, so the
+    base's force on it balances its loads: F = -(f0 + alpha_lo fL) = (-alpha_lo W, 0, W) for the
+    weight W = m |g| and the live load W along +x (equilibrium, to the pushover's residual)."""
+    scene = B.single_block(3, 0.3, 1.0, mu=0.8)
+    dem = _dem(scene)
+    loaded = load_scene(scene)
+    w = next(b.mass for b in loaded.blocks if b.id == "block") * math.hypot(*loaded.gravity)
+    for run in dem["runs"]:
+        held = run["held_forces"]
+        assert held["alpha"] == pytest.approx(run["alpha_lo"])
+        (a, b, *f), = held["pairs"]  # one pair of blocks in contact
+        assert {a, b} == {"base", "block"}
+        f = [x if b == "block" else -x for x in f]  # the force on the block
+        assert f == pytest.approx([-held["alpha"] * w, 0.0, w], abs=0.01 * w)
+
+
 def test_single_block_slides_at_mu_3d():
     mu = 0.4
     dem = _dem(B.single_block(3, 1.0, 1.0, mu=mu))

@@ -20,6 +20,11 @@ moving part flagged), and its piece LP is often infeasible: s = 0 on too many fa
 flowing set steers a successive-LP run instead: its first mechanism is the one nearest to the set
 (:func:`limit.solve.nlp.phase1`, a unit cost on the multipliers of the faces outside it), and
 complementarity is reached by the penalty of :func:`limit.solve.nlp.solve_sla`.
+
+A YADE run of the vertex model also records its contact forces per block pair at its highest
+equilibrium (``held_forces``). Their normal forces start the large route's fixed-point iteration on
+N (:func:`limit.solve.step2_large.run_start`): if the run's state lies near a rigid frictional
+collapse state, the iteration reaches it from there.
 """
 from __future__ import annotations
 
@@ -41,7 +46,9 @@ SLA_BUDGET = 60.0
 def state_of(data: dict) -> dict:
     """The collapse state in a result file: a ``python -m dem_validation run`` file (its ``dem``
     part), a DEM part itself, or a catalog result with ``dem``/``lmgc`` parts (the first that has
-    a displacement). {"displacement", "alpha", "source"}; ValueError naming what is missing."""
+    a displacement). {"displacement", "alpha", "source", "forces"}: ``forces`` the
+    ``held_forces`` of its stiffest run that has them (YADE's vertex model: the contact forces per
+    block pair at the highest equilibrium), else None. ValueError naming what is missing."""
     if not isinstance(data, dict):
         raise ValueError("not a result file (a JSON object)")
     parts = [data] + [data[k] for k in ("dem", "lmgc") if isinstance(data.get(k), dict)]
@@ -49,7 +56,9 @@ def state_of(data: dict) -> dict:
         disp = part.get("displacement")
         if isinstance(disp, dict) and disp:
             engine = part.get("engine") or ("lmgc90" if part is data.get("lmgc") else "yade")
-            return {"displacement": disp, "alpha": part.get("alpha"), "source": engine}
+            held = [r for r in part.get("runs") or [] if isinstance(r, dict) and r.get("held_forces")]
+            forces = min(held, key=lambda r: r.get("eps") or 0.0)["held_forces"] if held else None
+            return {"displacement": disp, "alpha": part.get("alpha"), "source": engine, "forces": forces}
     raise ValueError("no 'displacement' (per free block) in it: give the result file of a collapsed DEM run "
                      "(python -m dem_validation run ... --json OUT.json)")
 
@@ -70,6 +79,55 @@ def dof_vector(P, displacement: dict) -> np.ndarray:
         U[k] = u
     full = U.ravel()
     return full if P.keep is None else full[P.keep]
+
+
+def interface_normal_forces(P, pairs) -> np.ndarray:
+    """(m,) the normal force (N, compression positive) of each interface of P from a DEM run's
+    contact forces per block pair, ``pairs`` = [[id_a, id_b, fx, fy, fz], ...], the force on
+    block b from block a (N, global axes; a 2D scene's fz is ignored):
+    N_k = F(a_k -> b_k) . n_k, with n_k the interface's normal out of its block a_k into b_k
+    (:mod:`limit.geom.interfaces`). A block pair with several interfaces (a compound block's
+    parts) shares its force among them by area. ValueError names a block the scene lacks."""
+    idx = {b.id: i for i, b in enumerate(P.scene.blocks)}
+    d = P.scene.dim
+    force = {}
+    for row in pairs:
+        a, b, f = row[0], row[1], np.asarray(row[2:2 + 3], dtype=float)[:d]
+        for name in (a, b):
+            if name not in idx:
+                raise ValueError(f"contact forces: block '{name}' is not in the scene")
+        force[(idx[a], idx[b])] = f
+    I = P.I
+    area_of_pair: dict = {}
+    for k in range(len(I)):
+        key = frozenset((int(I.a[k]), int(I.b[k])))
+        area_of_pair[key] = area_of_pair.get(key, 0.0) + float(I.area[k])
+    out = np.zeros(len(I))
+    for k in range(len(I)):
+        a, b = int(I.a[k]), int(I.b[k])
+        f = force.get((a, b))
+        if f is None:
+            f = -force[(b, a)] if (b, a) in force else None
+        if f is not None:
+            out[k] = float(f @ np.asarray(I.normal[k], dtype=float)) * float(I.area[k]) / area_of_pair[frozenset((a, b))]
+    return out
+
+
+def _from_forces(P, lp_sol, N, forces: dict, deadline: float) -> dict:
+    """The large route's N iteration (:func:`limit.solve.step2_large.run_start`) from the normal
+    forces of a DEM run's equilibrium (:func:`interface_normal_forces`, tension clipped to 0):
+    N* of each friction row its interface's normal force. The run_start dict."""
+    from limit.solve import iterative_lp, step2_large
+
+    n_if = np.maximum(interface_normal_forces(P, forces.get("pairs") or []), 0.0)
+    x = np.zeros(P.model.n_x)
+    normal = np.asarray(P.model.normal_col, dtype=bool)
+    x_if = np.asarray(P.model.x_iface)
+    per = np.bincount(x_if[normal], minlength=len(P.I)).astype(float)  # normal components per interface
+    x[normal] = n_if[x_if[normal]] / np.maximum(per[x_if[normal]], 1.0)
+    _, _, ncol, _ = iterative_lp.friction_rows(P)
+    alpha_ref = lp_sol.alpha if lp_sol is not None and lp_sol.status == Status.OPTIMAL else np.inf
+    return step2_large.run_start(P, N, (x / P.Dx)[ncol], alpha_ref, deadline=deadline)
 
 
 def multipliers(P, N, vh: np.ndarray) -> tuple[np.ndarray, float]:
@@ -101,15 +159,20 @@ def _groups(labels: np.ndarray) -> dict:
     return {int(k): order[a:b] for k, a, b in zip(keys, starts, np.append(starts[1:], order.size))}
 
 
-def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget: float = SLA_BUDGET) -> dict:
-    """The lowest verified frictional collapse state from the flowing sets of a DEM displacement.
+def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget: float = SLA_BUDGET,
+          forces: dict | None = None) -> dict:
+    """The lowest verified frictional collapse state from the flowing sets of a DEM displacement
+    and, where the run gives them, its contact forces.
 
-    First the piece LP of each rung of :data:`TAU` (up to the first verified point); where none
+    With ``forces`` (a run's ``held_forces``: {"alpha", "pairs"}), first the large route's N
+    iteration from their normal forces (:func:`_from_forces`, within ``time_budget`` s). Then
+    the piece LP of each rung of :data:`TAU` (up to the first verified one); where none
     verifies, the successive LP (:func:`limit.solve.nlp.solve_sla`) from the mechanism nearest to
     each flowing set in turn (:func:`limit.solve.nlp.phase1` with a unit cost on the multipliers of
     the faces outside it, the LP's statics), within ``time_budget`` s, keeping the lowest verified
     point. Returns {"status": "optimal" | "failed", "alpha", "z" (scaled point of N, or None),
-    "N", "tau" (the rung that gave it), "n_flowing", "how" ("piece LP" or "successive LP"),
+    "N", "tau" (the rung that gave it; None: the contact forces), "n_flowing", "how" ("piece LP",
+    "successive LP" or "N iteration from the contact forces"),
     "residuals" (its check's, when verified),
     "misfit", "tried": [{"tau", "how", "n_flowing", "alpha", "verified", "reason"}], "time_s",
     "reason"}. ``backend`` of the LPs (:mod:`limit.solve.lpsub`; None: "highs" up to the setting
@@ -122,15 +185,20 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
     vh = dof_vector(P, displacement) * P.Df
     out = {"status": Status.FAILED, "alpha": None, "z": None, "N": N, "tau": None, "n_flowing": 0, "how": None,
            "tried": []}
+    have_lp = lp_sol is not None and lp_sol.status == Status.OPTIMAL
+    alpha_ref = lp_sol.alpha if have_lp else None
+    best = None
+    if forces:
+        r = _from_forces(P, lp_sol, N, forces, t0 + time_budget)
+        best = _record(out, N, r["z"] if r.get("verified") else None, r.get("how") or r.get("reason") or "",
+                       alpha_ref, None, "N iteration from the contact forces", 0, best)
+        out["tried"][-1]["iterations"] = int(r.get("iterations") or 0)
     if not np.any(vh):
-        return {**out, "misfit": None, "time_s": time.perf_counter() - t0,
-                "reason": "the displacement moves no free block"}
+        return _outcome(out, best, t0, misfit=None, why="the displacement moves no free block")
     lam, misfit = multipliers(P, N, vh)
     out["misfit"] = misfit
     if lam.max(initial=0.0) <= 0.0:
-        return {**out, "time_s": time.perf_counter() - t0, "reason": "no joint of the displacement flows"}
-    have_lp = lp_sol is not None and lp_sol.status == Status.OPTIMAL
-    alpha_ref = lp_sol.alpha if have_lp else None
+        return _outcome(out, best, t0, misfit=misfit, why="no joint of the displacement flows")
     statics = (lp_sol.alpha, lp_sol.x / P.Dx) if have_lp else (0.0, np.zeros(P.model.n_x))
     rungs, seen = [], set()
     for tau in TAU:
@@ -138,15 +206,15 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
         if flows.tobytes() not in seen:
             seen.add(flows.tobytes())
             rungs.append((tau, flows))
-    best = None
     for tau, flows in rungs:  # the piece LPs: a superset's alpha is no lower, so the first verified ends them
         z = N.join(statics[0], statics[1], vh, np.where(flows, lam, 0.0))
         zp, note = nlp.polish(N, z, backend, rule="support")
         best = _record(out, N, zp, note, alpha_ref, tau, "piece LP", int(flows.sum()), best)
-        if best is not None:
+        if out["tried"][-1]["verified"]:
             break
     deadline = t0 + time_budget
-    for tau, flows in ([] if best is not None else rungs):
+    piece_verified = any(t["verified"] for t in out["tried"] if t["how"] == "piece LP")
+    for tau, flows in ([] if piece_verified else rungs):
         if time.perf_counter() > deadline:
             out["tried"].append({"tau": tau, "how": "successive LP", "n_flowing": int(flows.sum()), "alpha": None,
                                  "verified": False, "reason": f"not begun: time budget of {time_budget:g} s spent"})
@@ -160,10 +228,17 @@ def solve(P, lp_sol, displacement: dict, backend: str | None = None, time_budget
         zf, ok, _, why, note = nlp.finish(N, z, alpha_ref, backend)
         best = _record(out, N, zf if ok else None, note if ok else f"{why} ({note})", alpha_ref, tau,
                        "successive LP", int(flows.sum()), best)
-    out["time_s"] = time.perf_counter() - t0
+    return _outcome(out, best, t0, misfit=misfit,
+                    why=f"no flowing set of the displacement gave a verified point ({len(out['tried'])} tried)")
+
+
+def _outcome(out, best, t0, misfit, why) -> dict:
+    """The result dict of :func:`solve`: ``best``'s point, else failed with ``why``."""
+    out = {**out, "misfit": misfit, "time_s": time.perf_counter() - t0}
     if best is None:
-        return {**out, "reason": f"no flowing set of the displacement gave a verified point ({len(out['tried'])} tried)"}
+        return {**out, "reason": why}
     z, tau, n, how, res = best
+    N = out["N"]
     return {**out, "status": Status.OPTIMAL, "alpha": float(z[N.ia]), "z": z, "tau": tau, "n_flowing": n, "how": how,
             "residuals": res, "reason": ""}
 

@@ -157,6 +157,7 @@ class Search:
         self.steps = 0
         self.base = base
         self.equilibria = []  # (alpha, snapshot) of every equilibrium reached by a load step
+        self.held = None  # (alpha, the model's pair_forces) at the highest equilibrium of bracket
 
     def run(self, a_from, a_to, phase, rerun=True, ramp_T=None):
         """One trial; ``ramp_T`` (x T) overrides the knob of that name for this trial."""
@@ -202,6 +203,7 @@ class Search:
                         break
                     lo, hi, hi_by_load = hi, None, False
                     self.equilibria.append((lo, model.snapshot()))
+                    self.held = (lo, model.pair_forces())
                     step = max(p["restep"] * lo, 1e-9)
                     continue
                 a, phase = 0.5 * (lo + hi), "bisect"
@@ -215,6 +217,7 @@ class Search:
             if t["outcome"] == STABLE:
                 lo = a
                 self.equilibria.append((a, model.snapshot()))
+                self.held = (a, model.pair_forces())
                 # a full step (not one cut at alpha_max, not the first jump) lets the step grow
                 if hi is None and phase == "load" and ramp is None and a > t["ref"]["alpha"] + 0.999 * step:
                     step *= p["growth"]
@@ -242,7 +245,9 @@ def pushover(model, eps_list, p, emit=None, hint=None):
     straight to ``restart_frac`` x alpha_lo, ramped over ``jump_ramp_T`` x T (no dynamic
     overshoot), and on by ``restep`` x alpha_lo. Returns one dict per stiffness: eps, status
     (collapsed|stable), alpha (bracket midpoint, None unless collapsed), alpha_lo,
-    alpha_hi, dead_load_collapse, history, steps, collapse (per free block
+    alpha_hi, dead_load_collapse, history, steps, held_forces (where the model records them
+    and the run collapsed: ``{"alpha", "pairs"}``, the contact forces per block pair at the
+    highest equilibrium), collapse (per free block
     (u, rotation) over the last collapsing trial, from the last equilibrium), dt, kn.
     """
     clock = Clock(emit)
@@ -290,6 +295,9 @@ def pushover(model, eps_list, p, emit=None, hint=None):
 
 def _result(eps, model, search, status, lo, hi, dead, collapse):
     alpha = 0.5 * (lo + hi) if (status == "collapsed" and lo is not None and hi is not None) else None
-    return {"eps": eps, "status": status, "alpha": alpha, "alpha_lo": lo, "alpha_hi": hi,
-            "dead_load_collapse": dead, "history": search.history, "steps": search.steps,
-            "collapse": collapse, "dt": model.dt, "kn": model.kn}
+    out = {"eps": eps, "status": status, "alpha": alpha, "alpha_lo": lo, "alpha_hi": hi,
+           "dead_load_collapse": dead, "history": search.history, "steps": search.steps,
+           "collapse": collapse, "dt": model.dt, "kn": model.kn}
+    if search.held is not None and search.held[1] is not None and status == "collapsed":
+        out["held_forces"] = {"alpha": search.held[0], "pairs": search.held[1]}
+    return out

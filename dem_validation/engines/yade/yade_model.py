@@ -281,6 +281,11 @@ class BlockModel:
         for _ in range(n):
             step()
 
+    def pair_forces(self):
+        """Contact forces summed per pair of touching blocks, or None where the model does not
+        record them: see :meth:`yade_vertex.VertexModel.pair_forces`."""
+        return None
+
     def stats(self):
         """Contact statistics of the model (dict of numbers); none by default."""
         return {}

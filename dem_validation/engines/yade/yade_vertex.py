@@ -259,6 +259,25 @@ class VertexModel(BlockModel):
         self.pen_max, self.n_contacts = pen / self.r, n
         return sums
 
+    def pair_forces(self):
+        """``[[a, b, fx, fy, fz], ...]``: per pair of blocks in contact (their ids, a before b in
+        the job's order) the sum over their contacts of the contact force on block b from block a
+        (N, global axes; normal plus shear force, YADE's Law2 applying +F to the interaction's
+        second body)."""
+        sums = {}
+        own = self.owner
+        for inter in O.interactions:
+            if not inter.isReal:
+                continue
+            i, j = own[inter.id1], own[inter.id2]
+            if i == j:
+                continue
+            f = inter.phys.normalForce + inter.phys.shearForce  # on the body inter.id2
+            key, sign = ((i, j), 1.0) if i < j else ((j, i), -1.0)
+            sums[key] = sums.get(key, Vector3(0, 0, 0)) + f * sign
+        ids = [b["id"] for b in self.job["blocks"]]
+        return [[ids[a], ids[b], float(v[0]), float(v[1]), float(v[2])] for (a, b), v in sorted(sums.items())]
+
     def stats(self):
         """At the last measure (:meth:`contact_forces`, run by every residual check): how many
         contacts carry force, and the largest penetration / r."""
