@@ -40,6 +40,26 @@ def test_block_rocks_at_b_over_h(dim):
 
 
 @pytest.mark.parametrize("dim", [2, 3])
+def test_the_contact_forces_at_the_highest_stable_load_carry_the_block(dim):
+    """At the end of the stable trial at alpha_lo the block rests on the base alone, so the
+    base's force on it balances its loads: (-alpha_lo W, W) in 2D, (-alpha_lo W, 0, W) in 3D
+    (W = m |g|, the live load W along +x, up the last axis), to 1 % of W."""
+    from limit.model.scene import load_scene
+
+    scene = B.single_block(dim, 0.3, 1.0, mu=0.8)
+    dem = _alpha(scene)
+    loaded = load_scene(scene)
+    w = next(b.mass for b in loaded.blocks if b.id == "block") * math.hypot(*loaded.gravity)
+    held = dem["runs"][-1]["held_forces"]
+    assert held["alpha"] == pytest.approx(dem["runs"][-1]["alpha_lo"])
+    (a, b, *f), = held["pairs"]
+    assert {a, b} == {"base", "block"}
+    f = [x if b == "block" else -x for x in f]
+    up = [-held["alpha"] * w, w, 0.0] if dim == 2 else [-held["alpha"] * w, 0.0, w]
+    assert f == pytest.approx(up, abs=0.01 * w)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
 def test_squat_block_slides_at_mu(dim):
     dem = _alpha(B.single_block(dim, 1.0, 0.5, mu=0.4))
     assert dem["alpha"] == pytest.approx(0.4, rel=RTOL)

@@ -21,10 +21,10 @@ flowing set steers a successive-LP run instead: its first mechanism is the one n
 (:func:`limit.solve.nlp.phase1`, a unit cost on the multipliers of the faces outside it), and
 complementarity is reached by the penalty of :func:`limit.solve.nlp.solve_sla`.
 
-A YADE run of the vertex model also records its contact forces per block pair at its highest
-equilibrium (``held_forces``). Their normal forces start the large route's fixed-point iteration on
-N (:func:`limit.solve.step2_large.run_start`): if the run's state lies near a rigid frictional
-collapse state, the iteration reaches it from there.
+A run of YADE's vertex model or of LMGC90 also records its contact forces per block pair at its
+highest equilibrium (``held_forces``). Their normal forces start the large route's fixed-point
+iteration on N (:func:`limit.solve.step2_large.run_start`): if the run's state lies near a rigid
+frictional collapse state, the iteration reaches it from there.
 """
 from __future__ import annotations
 
@@ -47,8 +47,9 @@ def state_of(data: dict) -> dict:
     """The collapse state in a result file: a ``python -m dem_validation run`` file (its ``dem``
     part), a DEM part itself, or a catalog result with ``dem``/``lmgc`` parts (the first that has
     a displacement). {"displacement", "alpha", "source", "forces"}: ``forces`` the
-    ``held_forces`` of its stiffest run that has them (YADE's vertex model: the contact forces per
-    block pair at the highest equilibrium), else None. ValueError naming what is missing."""
+    ``held_forces`` of its last run that has them (YADE's stiffest, LMGC90's finest time step:
+    the contact forces per block pair at the highest equilibrium), else None. ValueError naming
+    what is missing."""
     if not isinstance(data, dict):
         raise ValueError("not a result file (a JSON object)")
     parts = [data] + [data[k] for k in ("dem", "lmgc") if isinstance(data.get(k), dict)]
@@ -57,7 +58,7 @@ def state_of(data: dict) -> dict:
         if isinstance(disp, dict) and disp:
             engine = part.get("engine") or ("lmgc90" if part is data.get("lmgc") else "yade")
             held = [r for r in part.get("runs") or [] if isinstance(r, dict) and r.get("held_forces")]
-            forces = min(held, key=lambda r: r.get("eps") or 0.0)["held_forces"] if held else None
+            forces = held[-1]["held_forces"] if held else None
             return {"displacement": disp, "alpha": part.get("alpha"), "source": engine, "forces": forces}
     raise ValueError("no 'displacement' (per free block) in it: give the result file of a collapsed DEM run "
                      "(python -m dem_validation run ... --json OUT.json)")

@@ -24,6 +24,8 @@ def assemble_rigid(raw: dict) -> DemResult:
                                          for h in run.get("history", [])],
             "steps": run.get("steps", 0), "steps_total": sum(r.get("steps", 0) for r in runs),
             "displacement": run.get("displacement"), "dt_converged": raw.get("dt_converged")}
+    if run.get("held_forces"):  # the finest run's: the state that --dem-start reads
+        base["runs"][-1]["held_forces"] = run["held_forces"]
     if run.get("dead_load_collapse"):
         return DemResult.of(Status.COLLAPSED, alpha=None, dead_load_collapse=True,
                             note="collapses under the dead load alone (alpha <= 0)", **base)

@@ -61,7 +61,8 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
     trial from rest, then bisect until hi - lo <= alpha_rtol x hi. Returns the run: status
     (collapsed|stable), alpha (bracket midpoint), alpha_lo, alpha_hi, dead_load_collapse,
     history (one record per trial), steps, displacement (the free blocks' motion in the
-    last collapsing trial).
+    last collapsing trial), held_forces (a collapsed run: ``{"alpha", "pairs"}``, the contact
+    forces per block pair at the end of the stable trial at alpha_lo, where the trial gives them).
 
     Without a guess: alpha = 0 first (a collapse there is a dead-load collapse), then
     step0, 2 step0, ... until a collapse (or alpha_max). With a guess ``hint`` (> 0, the
@@ -73,9 +74,12 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
     guess collapsed.
     A guess only saves trials: the bracket is the trials' own."""
     history, lo, hi, collapse = [], 0.0, None, None
+    forces_at = {}  # alpha -> the contact forces per block pair at the end of a stable trial
 
     def run(a, phase):
         t = trial(a)
+        if t["outcome"] == "stable" and t.get("pair_forces") is not None:
+            forces_at[a] = t["pair_forces"]
         history.append({"phase": phase, "alpha": a, "outcome": t["outcome"], "steps": t["steps"],
                         "motion": t["motion"], "control": t.get("control"), "rest": bool(t.get("rest")),
                         "settled": t.get("settled"),
@@ -86,9 +90,12 @@ def search(trial, p: dict, emit=None, hint=None) -> dict:
 
     def result(status, dead=False):
         alpha = 0.5 * (lo + hi) if status == "collapsed" and hi is not None and not dead else None
-        return {"eps": 0.0, "status": status, "alpha": alpha, "alpha_lo": None if dead else lo,
-                "alpha_hi": hi, "dead_load_collapse": dead, "history": history,
-                "steps": sum(h["steps"] for h in history), "displacement": collapse}
+        out = {"eps": 0.0, "status": status, "alpha": alpha, "alpha_lo": None if dead else lo,
+               "alpha_hi": hi, "dead_load_collapse": dead, "history": history,
+               "steps": sum(h["steps"] for h in history), "displacement": collapse}
+        if status == "collapsed" and not dead and lo in forces_at:
+            out["held_forces"] = {"alpha": lo, "pairs": forces_at[lo]}
+        return out
 
     def dead_load():
         """The alpha = 0 trial: the dead-load collapse result when it collapses, else None."""

@@ -235,9 +235,27 @@ class RigidScene:
                         break
         disp = self._displacements(state, x0, F0) if state is not None else {}
         control = self._control(state, x0, F0) if state is not None else 0.0
-        return {"alpha": alpha, "outcome": "collapse" if motion > limit else "stable", "motion": motion,
+        held = motion <= limit and state is not None
+        return {"alpha": alpha, "outcome": "stable" if held else "collapse", "motion": motion,
                 "control": control, "steps": steps, "time": steps * self.dt, "rest": rest is not None,
-                "settled": rest, "displacement": disp}
+                "settled": rest, "displacement": disp, "pair_forces": self._pair_forces(state) if held else None}
+
+    def _pair_forces(self, state) -> list:
+        """``[[a, b, fx, fy, fz], ...]``: per pair of blocks in contact (their ids, a before b in
+        the job's order) the sum over their contact points of the force on block b from block a
+        (N, scene axes). The wheel's ``interaction_force_global`` of contact k is the force on the
+        first body of ``interaction_bodies[k]`` (1-based) from the second, in LMGC90's turned axes."""
+        sums = {}
+        bodies = np.asarray(state.interaction_bodies, dtype=int).reshape(-1, 2) - 1
+        forces = np.asarray(state.interaction_force_global, dtype=float).reshape(-1, 3) @ self.Q  # Q^T f per row
+        for (i, j), f in zip(bodies, forces):
+            if i == j:
+                continue
+            # the force on j from i is -f; on b from a for a < b
+            key, g = ((i, j), -f) if i < j else ((j, i), f)
+            sums[key] = sums.get(key, 0.0) + g
+        ids = [b["id"] for b in self.blocks]
+        return [[ids[a], ids[b], *map(float, v)] for (a, b), v in sorted(sums.items())]
 
     def _control(self, state, x0, F0) -> float:
         """Work conjugate of alpha (m), as the YADE side's: sum_i fL_i . (u_i, rotation_i)
