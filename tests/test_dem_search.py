@@ -110,6 +110,10 @@ class FakeModel:
     def stats(self):
         return {"penetration_ratio": 0.01}
 
+    def pair_forces(self):
+        """One pair whose force is the load factor the model holds."""
+        return [["base", "block", 0.0, 0.0, self.held]]
+
 
 def fake_trial(model, a_from, a_to, p, clock=None, steps_before=0, rerun=True):
     ref = model.snapshot()
@@ -137,6 +141,8 @@ def test_bisection_brackets_the_collapse_load(fake, rtol):
         assert r["alpha_lo"] <= ac < r["alpha_hi"]
         assert r["alpha_hi"] - r["alpha_lo"] <= rtol * r["alpha_hi"]
         assert abs(r["alpha"] - ac) <= 0.5 * rtol * r["alpha_hi"]
+        # the contact forces kept are those of the highest equilibrium, not of a later trial
+        assert r["held_forces"] == {"alpha": r["alpha_lo"], "pairs": [["base", "block", 0.0, 0.0, r["alpha_lo"]]]}
     # the stiffer run restarted from an equilibrium of the softer one, below its alpha
     second = runs[1]["history"]
     assert second[0]["phase"] == "re-stiffen" and second[0]["alpha"] <= 0.9 * runs[0]["alpha_lo"]
