@@ -1,5 +1,6 @@
 """The validation run's second look where a dynamic engine collapses below step 2: step 2 again,
-from that engine's collapse state (:func:`limit.step2.adopt_dem_state`).
+from that engine's collapse state (:func:`limit.step2.adopt_dem_state`: the contact forces of its
+last run's highest equilibrium where the result holds them, and its motion).
 
 Theory brackets a rigid-block collapse between the frictional minimum and the associative LP
 (Baggio & Trovalusci, section 3). A dynamic collapse more than :data:`SLACK` below step 2's
@@ -89,7 +90,10 @@ def one(data: dict, la: dict, dem: dict, engine: str, stage: str) -> dict:
     model = Options(n_slide=CONE_FACES, slide_fit="inscribed") if stage == "cone" else Options()
     P = assemble(load_scene(data), model)
     sol, _, _ = solve_lp(P)
-    _, entry = adopt_dem_state(P, sol, la.get("nlp") or {}, {"displacement": dem["displacement"], "source": engine})
+    from limit.solve.dem_start import state_of
+
+    state = {**state_of(dem), "source": engine}
+    _, entry = adopt_dem_state(P, sol, la.get("nlp") or {}, state)
     return {k: v for k, v in entry.items() if k != "tried"}
 
 

@@ -55,3 +55,26 @@ FAST_CATALOG = ("block-rocking-2d", "side-by-side-2d", "arch-semicircular-9-2d",
 def catalog_params(paths) -> list:
     """pytest parameters of catalog files, named by their scene, marked slow outside FAST_CATALOG."""
     return [pytest.param(p, id=p.stem, marks=() if p.stem in FAST_CATALOG else pytest.mark.slow) for p in paths]
+
+
+def side_by_side_collapse_forces(scene, mu: float = 0.5) -> tuple[dict, tuple]:
+    """The contact forces of the closed-form frictional collapse of the 2D side-by-side blocks
+    (scenes.builders.side_by_side, a loaded scene), per block pair as a DEM run records them
+    (``held_forces``: the force on the second block from the first, N), and the three normal
+    forces (N) under A, under B and between them. A rotates about its toe (b1, 0) and touches B
+    only at B's top corner (b1, h2), with a horizontal thrust T and the friction mu T lifting B;
+    B slides on the base. Moments of A about its toe: alpha W_A h1/2 = W_A b1/2 + T h2 (the
+    friction acts at the toe's x); B along x: T + alpha W_B = mu N_B with N_B = W_B - mu T, so
+    T = W_B (mu - alpha) / (1 + mu^2), and the base carries N_A = W_A + mu T under A."""
+    import math
+
+    from scenes import builders
+
+    alpha = builders.side_by_side_alpha(mu=mu)
+    g = math.hypot(*scene.gravity)
+    wa, wb = (next(b.mass for b in scene.blocks if b.id == k) * g for k in "AB")
+    t = wb * (mu - alpha) / (1 + mu * mu)
+    nb = wb - mu * t
+    pairs = [["base", "A", -alpha * wa + t, wa + mu * t, 0.0], ["base", "B", -mu * nb, nb, 0.0],
+             ["A", "B", t, mu * t, 0.0]]
+    return {"alpha": alpha, "pairs": pairs}, (wa + mu * t, nb, t)

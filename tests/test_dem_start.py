@@ -24,6 +24,7 @@ from limit.model.scene import load_scene
 from limit.solve import dem_start, verify
 from limit.solve.outcome import RouteOutcome
 from scenes import builders as B
+from tests.conftest import side_by_side_collapse_forces
 
 B1, H1, B2, H2 = 0.2, 1.0, 0.5, 0.6
 CLOSED = B.side_by_side_alpha(mu=0.5)  # 23/61
@@ -70,27 +71,11 @@ def test_a_sliding_block_gives_mu(dim):
     assert r["status"] == "optimal" and r["alpha"] == pytest.approx(0.35, rel=1e-9) and r["misfit"] < 1e-9
 
 
-def _collapse_forces(P, mu=0.5):
-    """The contact forces of the closed-form collapse state (2D), per block pair, as a YADE run
-    records them (``held_forces``: the force on the second block from the first, N). A rotates
-    about its toe (b1, 0) and touches B only at B's top corner (b1, h2), with a horizontal thrust
-    T and the friction mu T lifting B; B slides on the base. Moments of A about its toe:
-    alpha W_A h1/2 = W_A b1/2 + T h2 (the friction acts at the toe's x); B along x:
-    T + alpha W_B = mu N_B with N_B = W_B - mu T, so T = W_B (mu - alpha) / (1 + mu^2), and
-    the base carries N_A = W_A + mu T under A."""
-    g = float(np.linalg.norm(P.scene.gravity))
-    wa, wb = (next(b.mass for b in P.scene.blocks if b.id == k) * g for k in "AB")
-    t = wb * (mu - CLOSED) / (1 + mu * mu)
-    nb = wb - mu * t
-    return {"alpha": CLOSED, "pairs": [["base", "A", -CLOSED * wa + t, wa + mu * t, 0.0],
-                                       ["base", "B", -mu * nb, nb, 0.0], ["A", "B", t, mu * t, 0.0]]}, (wa + mu * t, nb, t)
-
-
 def test_the_normal_forces_of_a_dem_state_per_interface():
     """Each interface's normal force is the pair's force along the interface normal, whichever
     block of the pair the record names first."""
     P, _ = _setup(2)
-    forces, expected = _collapse_forces(P)
+    forces, expected = side_by_side_collapse_forces(P.scene)
     pairs = {(a, b): k for k, (a, b) in enumerate(P.I.pairs(P.scene))}
     got = dem_start.interface_normal_forces(P, forces["pairs"])
     assert [got[pairs[("base", "A")]], got[pairs[("base", "B")]], got[pairs[("A", "B")]]] == pytest.approx(expected)
@@ -104,7 +89,7 @@ def test_the_contact_forces_alone_start_the_n_iteration_to_the_closed_form():
     """A run's contact forces at the collapse state, with no displacement: the N iteration from
     their normal forces verifies 23/61 (from the displacement alone there is nothing to try)."""
     P, sol = _setup(2)
-    forces, _ = _collapse_forces(P)
+    forces, _ = side_by_side_collapse_forces(P.scene)
     r = dem_start.solve(P, sol, {}, forces=forces)
     assert r["status"] == "optimal" and r["alpha"] == pytest.approx(CLOSED, rel=1e-6)
     assert r["tau"] is None and r["tried"][0]["how"] == "N iteration from the contact forces"

@@ -11,6 +11,7 @@ from limit.analysis import analyse
 from limit.model.scene import load_scene
 from reports import dem_starts, table
 from scenes import builders as B
+from tests.conftest import side_by_side_collapse_forces
 
 CLOSED = B.side_by_side_alpha(mu=0.5)
 MECHANISM = {"A": [0.5, 0.1, -1.0], "B": [0.6, 0.0, 0.0]}
@@ -50,6 +51,19 @@ def test_an_engine_below_a_step2_that_stopped_high_is_resolved_by_its_state(scen
     text = table.contradictions_markdown(df)
     assert "0 of 1 collapsed engine results (1 against step 2 before the DEM starts)" in text
     assert "sbs: step 2 from the yade collapse state verified 0.37705" in text
+
+
+def test_an_engines_contact_forces_resolve_it_where_its_motion_does_not(scene_file, la):
+    """As above, step 2 set to 0.41, and an engine result whose displacement moves nothing but
+    whose last run holds the contact forces of the closed-form collapse state: the N iteration
+    from them verifies 23/61, which becomes the frictional alpha."""
+    high = json.loads(json.dumps(la))
+    high["nlp"]["alpha"] = 0.41
+    forces, _ = side_by_side_collapse_forces(load_scene(scene_file))
+    dem = {**_dem(0.375), "displacement": {"A": [0.0, 0.0, 0.0]}, "runs": [{"eps": 2.5e-6, "held_forces": forces}]}
+    starts = dem_starts.run([scene_file], {("sbs", "la"): high, ("sbs", "dem"): dem}, progress=False)
+    (entry,) = starts["sbs"]
+    assert entry["adopted"] is True and entry["alpha"] == pytest.approx(CLOSED, rel=1e-6) and entry["tau"] is None
 
 
 def test_an_engine_below_the_true_minimum_stays_a_counted_contradiction(scene_file, la):
