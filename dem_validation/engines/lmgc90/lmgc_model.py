@@ -235,10 +235,11 @@ class RigidScene:
                         break
         disp = self._displacements(state, x0, F0) if state is not None else {}
         control = self._control(state, x0, F0) if state is not None else 0.0
-        held = motion <= limit and state is not None
+        held = motion <= limit
         return {"alpha": alpha, "outcome": "stable" if held else "collapse", "motion": motion,
                 "control": control, "steps": steps, "time": steps * self.dt, "rest": rest is not None,
-                "settled": rest, "displacement": disp, "pair_forces": self._pair_forces(state) if held else None}
+                "settled": rest, "displacement": disp,
+                "pair_forces": self._pair_forces(state) if held and state is not None else None}
 
     def _pair_forces(self, state) -> list:
         """``[[a, b, fx, fy, fz], ...]``: per pair of blocks in contact (their ids, a before b in
