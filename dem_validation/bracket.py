@@ -4,8 +4,9 @@ For rigid blocks on frictional, no-tension joints, no collapse can happen below 
 minimum, and the associative LP is an upper bound of every frictional collapse (Baggio &
 Trovalusci, section 3; Radenkovic's theorems). Step 2's verified alpha is a frictional collapse
 state, so the minimum is at or below it: a dynamic alpha below step 2's is either a lower state
-that step 2 missed (``limit solve --dem-start`` tries it) or something the engine adds (time
-step, contact compliance, creep). A dynamic alpha above the LP has no such excuse for rigid
+that step 2 missed or something the engine adds (time step, contact compliance, creep). The
+command tries the first: step 2 from the run's own state (:func:`judge_with_start`, as
+``limit solve --dem-start`` does). A dynamic alpha above the LP has no such excuse for rigid
 blocks. Either is marked ``suspect``, with the reason, beyond a relative :data:`SLACK`. The
 limit analysis uses the engines' friction: a near-circular cone (24 inscribed sliding faces) in
 3D, the exact two faces in 2D. The inscribed polygon is up to 1 - cos(pi/24) = 0.86 % inside the
@@ -92,6 +93,41 @@ def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
                            "verified alpha") if lp is not None else "the limit analysis gave no alpha"}
     return {**out, "verdict": "inside", "reason": f"within [{fric:.5g}, {lp:.5g}] (slack {slack:.0%})"
             if lp is not None else f"at or above step 2's {fric:.5g}"}
+
+
+def judge_with_start(scene, dem: dict, la: dict, slack: float = SLACK) -> dict:
+    """:func:`judge`, and for a run judged suspect low, step 2 started from the run's own collapse
+    state (:func:`limit.step2.adopt_dem_state`: the N iteration from its contact forces, then its
+    motion) in the engines' friction model: the entry gets ``dem_start`` {"status", "alpha",
+    "adopted"} and its outcome at the end of the reason. Where that start verifies a point lower
+    than step 2's by more than the setting lower_by, step 2 had stopped above the minimum: the
+    run is judged again against that point, and ``fric_alpha_step2`` keeps step 2's own."""
+    entry = judge(dem, la, slack)
+    if entry.get("verdict") != "suspect" or entry.get("side") != "low":
+        return entry
+    from limit.analysis import solve_lp
+    from limit.model.assemble import Options, assemble
+    from limit.solve.dem_start import state_of
+    from limit.step2 import adopt_dem_state
+
+    try:
+        state = state_of(dem)
+    except ValueError:  # no motion recorded: nothing to start from
+        return entry
+    model = Options(n_slide=CONE_FACES, slide_fit="inscribed") if scene.dim == 3 else Options()
+    P = assemble(scene, model)
+    sol, _, _ = solve_lp(P)
+    fric = entry["fric_alpha"]
+    _, ds = adopt_dem_state(P, sol, {"status": "optimal", "alpha": fric}, state)
+    start = {"status": ds["status"], "alpha": ds["alpha"], "adopted": ds["adopted"]}
+    if ds["adopted"]:
+        again = judge(dem, {**la, "fric_alpha": ds["alpha"]}, slack)
+        return {**again, "dem_start": start, "fric_alpha_step2": fric,
+                "reason": again["reason"] + f" (step 2 from this run's state verified {ds['alpha']:.5g}, below "
+                                           f"step 2's own {fric:.5g})"}
+    told = (f"verified {ds['alpha']:.5g} again: no lower rigid-block state near this run's"
+            if ds["status"] == "optimal" else "verified no point")
+    return {**entry, "dem_start": start, "reason": entry["reason"] + f"; step 2 from this run's state {told}"}
 
 
 def label(entry: dict | None) -> str:

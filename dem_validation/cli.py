@@ -130,13 +130,13 @@ def cmd_run(args) -> int:
     if args.json:  # first: neither the bracket's limit analysis nor the summary may lose the run
         jsonio.write_json(args.json, result)
     if not args.no_bracket and dem.get("status") == "collapsed" and dem.get("alpha") is not None:
-        from .bracket import judge, limit_analysis
+        from .bracket import judge_with_start, limit_analysis
 
         if not args.quiet:
             print("checking the collapse against the limit analysis (LP and step 2; --no-bracket skips it) ...",
                   file=sys.stderr)
         try:
-            dem["bracket"] = judge(dem, limit_analysis(scene))
+            dem["bracket"] = judge_with_start(scene, dem, limit_analysis(scene))
         except Exception as exc:  # noqa: BLE001 - the DEM result is kept whatever the check does
             dem["bracket"] = {"verdict": "unchecked", "reason": f"the limit analysis failed: {type(exc).__name__}: {exc}"}
         dem["suspect"] = dem["bracket"]["verdict"] == "suspect"

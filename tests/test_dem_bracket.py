@@ -7,10 +7,13 @@ import pandas as pd
 import pytest
 
 import dem_validation.cli
-from dem_validation.bracket import judge, label, limit_analysis
+from dem_validation.bracket import judge, judge_with_start, label, limit_analysis
 from limit.model.scene import load_scene
 from reports import table
 from scenes import builders as B
+from tests.conftest import side_by_side_collapse_forces
+
+CLOSED = B.side_by_side_alpha(mu=0.5)  # 23/61
 
 LA = {"fric_alpha": 0.3, "lp_alpha": 0.4}
 
@@ -91,6 +94,35 @@ def test_the_dem_command_writes_the_bracket(tmp_path, write_scene, monkeypatch, 
     assert "SUSPECT (low): 0.2 is 50.0 % below" in capsys.readouterr().out
     assert dem_validation.cli.main(["run", str(scene), "--json", str(out), "--quiet", "--no-bracket"]) == 0
     assert "bracket" not in json.loads(out.read_text())["dem"]
+
+
+def _side_by_side_run(alpha):
+    """A stand-in DEM result on the side-by-side blocks (mu 0.5): collapsed at ``alpha``, with the
+    contact forces of the closed-form collapse state (tests/conftest.py) and no motion."""
+    scene = load_scene(B.side_by_side(dim=2, mu=0.5))
+    forces, _ = side_by_side_collapse_forces(scene)
+    return scene, {"status": "collapsed", "alpha": alpha, "displacement": {"A": [0.0, 0.0, 0.0]},
+                   "runs": [{"eps": 2.5e-6, "held_forces": forces}]}
+
+
+def test_a_run_below_the_minimum_is_told_that_no_rigid_state_lies_near_it():
+    """A run at 0.30 against step 2's 23/61 (closed form): suspect low, and step 2 from the
+    run's contact forces verifies 23/61 again, which the reason says."""
+    scene, dem = _side_by_side_run(0.30)
+    b = judge_with_start(scene, dem, {"fric_alpha": CLOSED, "lp_alpha": 7 / 17})
+    assert b["verdict"] == "suspect" and b["side"] == "low"
+    assert b["dem_start"]["alpha"] == pytest.approx(CLOSED, rel=1e-6) and b["dem_start"]["adopted"] is False
+    assert "no lower rigid-block state near this run's" in b["reason"]
+
+
+def test_a_run_below_a_step2_that_stopped_high_is_judged_against_the_lower_state():
+    """Step 2 given as 0.41 (as if it had stopped above the minimum) and a run at 0.375: from the
+    run's forces step 2 verifies 23/61 = 0.37705, and against that the run is inside the 1 % slack."""
+    scene, dem = _side_by_side_run(0.375)
+    assert judge(dem, {"fric_alpha": 0.41, "lp_alpha": 0.42})["verdict"] == "suspect"
+    b = judge_with_start(scene, dem, {"fric_alpha": 0.41, "lp_alpha": 0.42})
+    assert b["verdict"] == "inside" and b["fric_alpha"] == pytest.approx(CLOSED, rel=1e-6)
+    assert b["fric_alpha_step2"] == 0.41 and b["dem_start"]["adopted"] is True
 
 
 def test_the_engines_table_flags_a_suspect_result():
