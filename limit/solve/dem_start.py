@@ -118,7 +118,7 @@ def _from_forces(P, lp_sol, N, forces: dict, deadline: float) -> dict:
     """The large route's N iteration (:func:`limit.solve.step2_large.run_start`) from the normal
     forces of a DEM run's equilibrium (:func:`interface_normal_forces`, tension clipped to 0):
     N* of each friction row its interface's normal force. The run_start dict."""
-    from limit.solve import iterative_lp, step2_large
+    from limit.solve import step2_large
 
     n_if = np.maximum(interface_normal_forces(P, forces.get("pairs") or []), 0.0)
     x = np.zeros(P.model.n_x)
@@ -126,9 +126,8 @@ def _from_forces(P, lp_sol, N, forces: dict, deadline: float) -> dict:
     x_if = np.asarray(P.model.x_iface)
     per = np.bincount(x_if[normal], minlength=len(P.I)).astype(float)  # normal components per interface
     x[normal] = n_if[x_if[normal]] / np.maximum(per[x_if[normal]], 1.0)
-    _, _, ncol, _ = iterative_lp.friction_rows(P)
     alpha_ref = lp_sol.alpha if lp_sol is not None and lp_sol.status == Status.OPTIMAL else np.inf
-    return step2_large.run_start(P, N, (x / P.Dx)[ncol], alpha_ref, deadline=deadline)
+    return step2_large.run_start(P, N, step2_large.nstar_of(P, x), alpha_ref, deadline=deadline)
 
 
 def multipliers(P, N, vh: np.ndarray) -> tuple[np.ndarray, float]:

@@ -142,14 +142,20 @@ def start_label(factor: float) -> str:
     return "lp" if factor == 1.0 else f"lp-mu*{factor:g}"
 
 
+def nstar_of(P, x: np.ndarray) -> np.ndarray:
+    """N* per friction row (scaled) of the interface actions ``x`` (n_x,) in N and N m: each
+    row's normal force."""
+    _, _, ncol, _ = iterative_lp.friction_rows(P)
+    return (np.asarray(x, dtype=float) / P.Dx)[ncol]
+
+
 def start_nstar(P, lp_sol, factor: float) -> np.ndarray | None:
     """N* per friction row of the start at ``factor``: the normal forces of the associative LP at
     mu x factor (the LP's own at factor 1); None when that LP has no optimum."""
-    _, _, ncol, _ = iterative_lp.friction_rows(P)
     if factor == 1.0:
-        return (lp_sol.x / P.Dx)[ncol]
+        return nstar_of(P, lp_sol.x)
     sol2 = nlp_starts.reduced_friction_lp(P, factor)
-    return None if sol2 is None else (sol2.x / P.Dx)[ncol]
+    return None if sol2 is None else nstar_of(P, sol2.x)
 
 
 def starts(P, lp_sol, factors=None) -> list[tuple[str, np.ndarray]]:
