@@ -64,7 +64,7 @@ def test_single_block_rocks_at_b_over_h(dim):
     assert u[0] > 0
 
 
-def test_the_contact_forces_at_the_highest_equilibrium_carry_the_block():
+def test_the_contact_forces_and_pose_at_the_highest_equilibrium():
     """At its highest equilibrium alpha_lo the one free block is held by the base alone, so the
     base's force on it balances its loads: F = -(f0 + alpha_lo fL) = (-alpha_lo W, 0, W) for the
     weight W = m |g| and the live load W along +x (equilibrium, to the pushover's residual)."""
@@ -79,6 +79,11 @@ def test_the_contact_forces_at_the_highest_equilibrium_carry_the_block():
         assert {a, b} == {"base", "block"}
         f = [x if b == "block" else -x for x in f]  # the force on the block
         assert f == pytest.approx([-held["alpha"] * w, 0.0, w], abs=0.01 * w)
+        # its pose there, from the unloaded scene: a small elastic tilt towards the live load (+x, so
+        # +ry), far from the b / h of rotation at which it would overturn, and no motion across y
+        ux, uy, uz, rx, ry, rz = run["held_pose"]["block"]
+        assert 0.0 < ry < 0.1 * 0.3 / 1.0 and ux > 0.0
+        assert abs(uy) < 0.01 * ux and abs(rx) < 0.01 * ry
 
 
 def test_single_block_slides_at_mu_3d():

@@ -16,7 +16,7 @@ def assemble(raw: dict, p: dict) -> DemResult:
     runs = raw.get("runs") or []
     history = [dict(h, eps=r["eps"]) for r in runs for h in r.get("history", [])]
     summary = [{k: r.get(k) for k in ("eps", "kn", "status", "alpha", "alpha_lo", "alpha_hi", "steps", "dt",
-                                      "sphere_radius", "mass_factor", "dead_load_collapse", "cpu_s", "held_forces") if k in r}
+                                      "sphere_radius", "mass_factor", "dead_load_collapse", "cpu_s", "held_forces", "held_pose") if k in r}
                for r in runs]
     base = {"runs": summary, "history": history, "steps": sum(r.get("steps", 0) for r in runs),
             **_keep(raw, "cpu_s", "fixed_addresses", "refinement")}

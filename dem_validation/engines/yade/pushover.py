@@ -151,13 +151,15 @@ class Search:
     displacement from the settled state, m).
     """
 
-    def __init__(self, model, p, clock=None, base=None):
+    def __init__(self, model, p, clock=None, base=None, origin=None):
         self.model, self.p, self.clock = model, p, clock
+        self.origin = origin  # snapshot of the unloaded scene: held_pose is measured from it
         self.history = []
         self.steps = 0
         self.base = base
         self.equilibria = []  # (alpha, snapshot) of every equilibrium reached by a load step
         self.held = None  # (alpha, the model's pair_forces) at the highest equilibrium of bracket
+        self.held_pose = None  # per free block (u, rotation) at that equilibrium, from ``origin``
 
     def run(self, a_from, a_to, phase, rerun=True, ramp_T=None):
         """One trial; ``ramp_T`` (x T) overrides the knob of that name for this trial."""
@@ -171,6 +173,12 @@ class Search:
         rec.update(self.model.stats())
         self.history.append(rec)
         return t
+
+    def _hold(self, alpha):
+        """Record the state at rest at ``alpha`` as the highest equilibrium so far."""
+        self.held = (alpha, self.model.pair_forces())
+        if self.origin is not None:
+            self.held_pose = self.model.displacements(self.origin)
 
     def bracket(self, lo, step, first=None, first_ramp_T=None):
         """Raise alpha from the equilibrium at ``lo`` (first to ``first`` when given - ramped
@@ -203,7 +211,7 @@ class Search:
                         break
                     lo, hi, hi_by_load = hi, None, False
                     self.equilibria.append((lo, model.snapshot()))
-                    self.held = (lo, model.pair_forces())
+                    self._hold(lo)
                     step = max(p["restep"] * lo, 1e-9)
                     continue
                 a, phase = 0.5 * (lo + hi), "bisect"
@@ -217,7 +225,7 @@ class Search:
             if t["outcome"] == STABLE:
                 lo = a
                 self.equilibria.append((a, model.snapshot()))
-                self.held = (a, model.pair_forces())
+                self._hold(a)
                 # a full step (not one cut at alpha_max, not the first jump) lets the step grow
                 if hi is None and phase == "load" and ramp is None and a > t["ref"]["alpha"] + 0.999 * step:
                     step *= p["growth"]
@@ -247,7 +255,8 @@ def pushover(model, eps_list, p, emit=None, hint=None):
     (collapsed|stable), alpha (bracket midpoint, None unless collapsed), alpha_lo,
     alpha_hi, dead_load_collapse, history, steps, held_forces (where the model records them
     and the run collapsed: ``{"alpha", "pairs"}``, the contact forces per block pair at the
-    highest equilibrium), collapse (per free block
+    highest equilibrium), held_pose (the run collapsed: per free block (u, rotation) at that
+    equilibrium from the unloaded scene, m and rad; None otherwise), collapse (per free block
     (u, rotation) over the last collapsing trial, from the last equilibrium), dt, kn.
     """
     clock = Clock(emit)
@@ -256,7 +265,7 @@ def pushover(model, eps_list, p, emit=None, hint=None):
     prev = None  # (result, search) of the previous stiffness
     for eps in eps_list:
         model.set_stiffness(eps)
-        search = Search(model, p, clock)
+        search = Search(model, p, clock, origin=initial)
         clock.emit and clock.emit({"phase": "stiffness", "eps": eps, "dt": model.dt})
         start = None
         if prev is not None and prev[0]["status"] == "collapsed":
@@ -300,4 +309,5 @@ def _result(eps, model, search, status, lo, hi, dead, collapse):
            "collapse": collapse, "dt": model.dt, "kn": model.kn}
     if search.held is not None and search.held[1] is not None and status == "collapsed":
         out["held_forces"] = {"alpha": search.held[0], "pairs": search.held[1]}
+    out["held_pose"] = search.held_pose if status == "collapsed" else None
     return out

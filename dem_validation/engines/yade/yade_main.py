@@ -109,6 +109,9 @@ def main(argv):
             c = r.pop("collapse")
             r["displacement"] = None if c is None else {
                 ids[i]: _layout(model.dim, du, rot) for i, (du, rot) in c.items()}
+            hp = r.pop("held_pose", None)
+            if hp is not None:
+                r["held_pose"] = {ids[i]: _layout(model.dim, du, rot) for i, (du, rot) in hp.items()}
         res.update(status="done", runs=runs)
         if not _finite(res):
             res = {"status": "failed", "reason": "non-finite number in the DEM result", "runs": []}
