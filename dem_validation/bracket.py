@@ -12,6 +12,15 @@ limit analysis uses the engines' friction: a near-circular cone (24 inscribed sl
 3D, the exact two faces in 2D. The inscribed polygon is up to 1 - cos(pi/24) = 0.86 % inside the
 cone, so in 3D the LP's bound on the cone is the polygon's LP divided by cos(pi/24)
 (:func:`cone_lp_factor`).
+
+The paper's 3D joint takes sliding and twisting as independent (|T| <= mu N and a twisting
+moment of its own), while both engines carry a joint on point contacts at its polygon's
+corners, each with its own Coulomb cone, so that a joint that slides has less left to twist.
+Where the two differ, the engines' joint is the weaker: a slab pushed 0.25 m off its centre
+carries 0.5952 on the paper's joints and 0.5304 on point contacts (24 inscribed faces,
+``tests/test_dem_bracket.py``). A 3D run still judged suspect low after the start above is
+therefore judged again on point contacts (:func:`point_contact_check`: the LP and step 2 from
+the run's state, ``limit solve --model vertex``).
 """
 from __future__ import annotations
 
@@ -101,7 +110,8 @@ def judge_with_start(scene, dem: dict, la: dict, slack: float = SLACK) -> dict:
     motion) in the engines' friction model: the entry gets ``dem_start`` {"status", "alpha",
     "adopted"} and its outcome at the end of the reason. Where that start verifies a point lower
     than step 2's by more than the setting lower_by, step 2 had stopped above the minimum: the
-    run is judged again against that point, and ``fric_alpha_step2`` keeps step 2's own."""
+    run is judged again against that point, and ``fric_alpha_step2`` keeps step 2's own. A 3D run
+    still suspect low is judged on the engines' point contacts (:func:`point_contact_check`)."""
     entry = judge(dem, la, slack)
     if entry.get("verdict") != "suspect" or entry.get("side") != "low":
         return entry
@@ -122,12 +132,58 @@ def judge_with_start(scene, dem: dict, la: dict, slack: float = SLACK) -> dict:
     start = {"status": ds["status"], "alpha": ds["alpha"], "adopted": ds["adopted"]}
     if ds["adopted"]:
         again = judge(dem, {**la, "fric_alpha": ds["alpha"]}, slack)
-        return {**again, "dem_start": start, "fric_alpha_step2": fric,
-                "reason": again["reason"] + f" (step 2 from this run's state verified {ds['alpha']:.5g}, below "
-                                           f"step 2's own {fric:.5g})"}
+        again = {**again, "dem_start": start, "fric_alpha_step2": fric,
+                 "reason": again["reason"] + f" (step 2 from this run's state verified {ds['alpha']:.5g}, below "
+                                            f"step 2's own {fric:.5g})"}
+        still = again.get("verdict") == "suspect" and again.get("side") == "low" and scene.dim == 3
+        return point_contact_check(scene, dem, state, again, slack) if still else again
     told = (f"verified {ds['alpha']:.5g} again: no lower rigid-block state near this run's"
             if ds["status"] == "optimal" else "verified no point")
-    return {**entry, "dem_start": start, "reason": entry["reason"] + f"; step 2 from this run's state {told}"}
+    entry = {**entry, "dem_start": start, "reason": entry["reason"] + f"; step 2 from this run's state {told}"}
+    return point_contact_check(scene, dem, state, entry, slack) if scene.dim == 3 else entry
+
+
+#: the bracket's joint model on point contacts (3D): as the engines carry a joint
+POINT_CONTACTS = f"point contacts at the joints' corners, {CONE_FACES} inscribed sliding faces"
+
+
+def point_contact_check(scene, dem: dict, state: dict, entry: dict, slack: float = SLACK) -> dict:
+    """A 3D run judged suspect low, judged again with the engines' joints: point contacts at each
+    contact polygon's corners (:class:`limit.model.assemble.Options` model "vertex", 24 inscribed
+    sliding faces), the LP and step 2 from the run's state ``state``
+    (:func:`limit.solve.dem_start.state_of`; step 2's own search on point contacts is not run:
+    on the cross vault it takes ten times as long as on the paper's joints). Where that verifies a
+    point lower than the entry's lower bound by more than the setting lower_by, the run is judged against [that point, that LP]
+    (``fric_alpha_step2`` keeps step 2's own on the paper's joints); either way the entry gets
+    ``point_contacts`` {"status", "alpha", "lp_alpha"} and the outcome at the end of its reason."""
+    from limit.analysis import solve_lp
+    from limit.model.assemble import Options, assemble
+    from limit.solve.status import Status
+    from limit import settings
+    from limit.step2 import adopt_dem_state, lower
+
+    P = assemble(scene, Options(model="vertex", n_slide=CONE_FACES, slide_fit="inscribed"))
+    sol, _, _ = solve_lp(P)
+    lp = sol.alpha if sol.status == Status.OPTIMAL else None
+    if lp is None:
+        return {**entry, "point_contacts": {"status": str(sol.status), "alpha": None, "lp_alpha": None},
+                "reason": entry["reason"] + f"; on point contacts the LP gave no alpha ({sol.status})"}
+    _, ds = adopt_dem_state(P, sol, {"status": "failed", "alpha": None}, state)
+    found = ds["alpha"] if ds["status"] == Status.OPTIMAL else None
+    pc = {"status": str(ds["status"]), "alpha": found, "lp_alpha": lp}
+    fric = entry["fric_alpha"]
+    if not lower(found, fric, settings.of(P).lower_by):
+        told = f"verified {found:.5g}, not lower" if found is not None else "verified no point"
+        return {**entry, "point_contacts": pc,
+                "reason": entry["reason"] + f"; on point contacts at the joints' corners, as the engines carry "
+                                            f"them, step 2 from this run's state {told}"}
+    again = judge(dem, {"fric_alpha": found, "lp_alpha": lp, "lp_factor": cone_lp_factor(3),
+                        "model": POINT_CONTACTS}, slack)
+    return {**again, "dem_start": entry.get("dem_start"), "point_contacts": pc,
+            "fric_alpha_step2": entry.get("fric_alpha_step2", fric),
+            "reason": again["reason"] + f" (on point contacts at the joints' corners, as the engines carry them: "
+                                        f"step 2 from this run's state verified {found:.5g}, the LP {lp:.5g}; "
+                                        f"on the paper's joints step 2 gave {fric:.5g})"}
 
 
 def label(entry: dict | None) -> str:
