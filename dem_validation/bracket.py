@@ -17,7 +17,7 @@ The paper's 3D joint takes sliding and twisting as independent (|T| <= mu N and 
 moment of its own), while both engines carry a joint on point contacts at its polygon's
 corners, each with its own Coulomb cone, so that a joint that slides has less left to twist.
 Where the two differ, the engines' joint is the weaker: a slab pushed 0.25 m off its centre
-carries 0.5952 on the paper's joints and 0.5304 on point contacts (24 inscribed faces,
+carries 0.5949 on the paper's joints and 0.5304 on point contacts (24 inscribed faces,
 ``tests/test_dem_bracket.py``). A 3D run still judged suspect low after the start above is
 therefore judged again on point contacts (:func:`point_contact_check`: the LP and step 2 from
 the run's state, ``limit solve --model vertex``).
@@ -153,13 +153,14 @@ def point_contact_check(scene, dem: dict, state: dict, entry: dict, slack: float
     sliding faces), the LP and step 2 from the run's state ``state``
     (:func:`limit.solve.dem_start.state_of`; step 2's own search on point contacts is not run:
     on the cross vault it takes ten times as long as on the paper's joints). Where that verifies a
-    point lower than the entry's lower bound by more than the setting lower_by, the run is judged against [that point, that LP]
-    (``fric_alpha_step2`` keeps step 2's own on the paper's joints); either way the entry gets
-    ``point_contacts`` {"status", "alpha", "lp_alpha"} and the outcome at the end of its reason."""
+    point lower than the entry's lower bound by more than the setting lower_by, the run is judged
+    against [that point, that LP] (``fric_alpha_step2`` keeps step 2's own on the paper's joints);
+    either way the entry gets ``point_contacts`` {"status", "alpha", "lp_alpha"} and the outcome
+    at the end of its reason."""
     from limit.analysis import solve_lp
     from limit.model.assemble import Options, assemble
-    from limit.solve.status import Status
     from limit import settings
+    from limit.solve.status import Status
     from limit.step2 import adopt_dem_state, lower
 
     P = assemble(scene, Options(model="vertex", n_slide=CONE_FACES, slide_fit="inscribed"))
