@@ -106,6 +106,45 @@ def confined_block_alpha(b: float, h: float, mu: float) -> float:
     return mu * mu * h / b if b < mu * h else mu
 
 
+def eccentric_slab(e=0.25, b=1.0, h=0.1, mu=0.6, density=2000.0, name=None, **kw) -> dict:
+    """A flat square slab b x b (m, plan) by h (up) on a fixed base (3D): self weight W as the dead
+    load, and as the live load a horizontal force W along +x at its centroid's height, ``e`` (m)
+    off its centre along +y. The 24 inscribed sliding faces are the scene's friction model.
+    Collapse by sliding and twisting at once: :func:`eccentric_slab_alpha`."""
+    w = density * b * b * h * 9.81
+    blocks = [base(3, -b / 2, 2 * b, -b / 2, 2 * b), _place(3, "slab", 0.0, b, 0.0, h, 0.0, b)]
+    live = [{"type": "point_force", "block": "slab", "force": [w, 0.0, 0.0],
+             "point": [b / 2, b / 2 + e, h / 2]}]
+    return scene(name or "eccentric-slab-3d", 3, blocks, friction=mu, density=density, live=live,
+                 sliding_faces=None, **kw)
+
+
+def eccentric_slab_alpha(e: float, b: float = 1.0, mu: float = 0.6) -> float:
+    """Collapse factor of :func:`eccentric_slab` on four corner contacts (+-a, +-a), a = b / 2,
+    about its centre, each with N = W / 4 (a flat slab's elastic contacts share the weight
+    equally) and a circular Coulomb cone.
+
+    The slab turns about a centre (0, c): mirroring x -> -x and reversing the motion gives the
+    same problem, so the centre lies on the line through the slab's centre across the load. Each
+    corner's friction force mu W / 4 lies across its radius r_i from (0, c), against the motion.
+    Balance along x, alpha W = (mu W / 4) |sum_i (y_i - c) / r_i|, and of moments about (0, c),
+    alpha W |e - c| = (mu W / 4) sum_i r_i, give c (the one root below 0 for e > 0) and alpha.
+    alpha tends to mu as e -> 0 (c -> -infinity: pure sliding) and falls with e. The slab does
+    not rock while b / h is large (overturning needs alpha = b / h about its far edge)."""
+    from scipy.optimize import brentq
+
+    if e <= 0.0:
+        return mu
+    a = b / 2.0
+    y = np.array([a, a, -a, -a])
+
+    def r(c):
+        return np.hypot(a, y - c)
+
+    c = brentq(lambda c: np.sum(r(c)) / abs(np.sum((y - c) / r(c))) - abs(c - e), -1e6 * b, -1e-12 * b)
+    return float(mu / 4.0 * abs(np.sum((y - c) / r(c))))
+
+
 def stack(n=3, dim=2, b=0.3, h=0.5, t=None, mu=0.6, name=None, **kw) -> dict:
     """n equal blocks stacked on a fixed base; block k has tag 'course-k', the top also 'top'."""
     t = b if t is None else t

@@ -128,46 +128,26 @@ def test_a_run_below_a_step2_that_stopped_high_is_judged_against_the_lower_state
 
 
 def _eccentric_slab(e, mu=0.6):
-    """A 1 x 1 x 0.1 m slab on a fixed base, self weight W dead, and live a force W along +x at
-    its centroid's height, e off its centre along y."""
-    w = 2000.0 * 0.1 * 9.81
-    blocks = [B.base(3, -0.5, 2.0, -0.5, 2.0), B._place(3, "slab", 0.0, 1.0, 0.0, 0.1, 0.0, 1.0)]
-    live = [{"type": "point_force", "block": "slab", "force": [w, 0.0, 0.0], "point": [0.5, 0.5 + e, 0.05]}]
-    return load_scene(B.scene("slab", 3, blocks, friction=mu, live=live, sliding_faces=None)), w
-
-
-def _slab_on_corners(e, mu, a=0.5):
-    """The slab of :func:`_eccentric_slab` on four corner contacts (+-a, +-a) about its centre,
-    each with N = W / 4 and a circular Coulomb cone: it turns about a centre (0, c) on the line
-    through the centre across the load (the mirror x -> -x with the motion reversed is the same
-    problem), each friction force mu W / 4 across the radius r_i from (0, c). Balance along x,
-    alpha W = mu W / 4 |sum (y_i - c) / r_i|, and of moments about (0, c), alpha W |e - c| =
-    mu W / 4 sum r_i, give c (one root below 0) and alpha. The slab is flat (b / h = 10): it
-    does not rock."""
-    from scipy.optimize import brentq
-
-    y = np.array([a, a, -a, -a])
-
-    def r(c):
-        return np.hypot(a, y - c)
-
-    c = brentq(lambda c: np.sum(r(c)) / abs(np.sum((y - c) / r(c))) - abs(c - e), -1e6, -1e-9)
-    return mu / 4.0 * abs(np.sum((y - c) / r(c)))
+    """:func:`scenes.builders.eccentric_slab` loaded, and its weight W (N)."""
+    scene = load_scene(B.eccentric_slab(e=e, mu=mu))
+    slab = next(b for b in scene.blocks if b.id == "slab")
+    return scene, slab.mass * float(np.linalg.norm(scene.gravity))
 
 
 def test_a_3d_run_below_the_papers_joints_is_judged_on_the_engines_point_contacts():
     """A slab pushed 0.25 m off its centre (mu 0.6). On the paper's joints sliding and twisting
     are independent, so it slides at mu along x, which the 24 inscribed faces meet at mid-face:
     mu cos(pi/24) = 0.59487. On point contacts at its four corners, as the engines carry it, a
-    collapse state with equal normal forces lies at the closed form of :func:`_slab_on_corners`
-    (0.54417; the inscribed faces and other normal forces can only lower the minimum). A run at
+    collapse state with equal normal forces lies at the closed form of
+    :func:`scenes.builders.eccentric_slab_alpha` (0.54417; the inscribed faces and other normal
+    forces can only lower the minimum). A run at
     0.54 with the base's force (-alpha W, 0, W) on the slab is suspect low on the paper's joints
     and inside once judged on point contacts."""
     e, mu = 0.25, 0.6
     scene, w = _eccentric_slab(e, mu)
     paper = limit_analysis(scene)
     assert paper["fric_alpha"] == pytest.approx(mu * math.cos(math.pi / 24), rel=1e-5)
-    corners = _slab_on_corners(e, mu)
+    corners = B.eccentric_slab_alpha(e, mu=mu)
     assert corners < 0.99 * paper["fric_alpha"]
     alpha = 0.54
     dem = {"status": "collapsed", "alpha": alpha, "displacement": {"slab": [1e-3, 0, 0, 0, 0, -1e-3]},
@@ -186,7 +166,7 @@ def test_a_centred_push_gives_the_same_on_point_contacts():
     form tends to mu as e -> 0): a run at 0.5 stays suspect low, and the reason says that point
     contacts verified nothing lower."""
     scene, w = _eccentric_slab(0.0)
-    assert _slab_on_corners(1e-6, 0.6) == pytest.approx(0.6, rel=1e-5)
+    assert B.eccentric_slab_alpha(1e-6, mu=0.6) == pytest.approx(0.6, rel=1e-5)
     paper = limit_analysis(scene)
     dem = {"status": "collapsed", "alpha": 0.5, "displacement": {"slab": [1e-3, 0, 0, 0, 0, 0]},
            "runs": [{"eps": 2.5e-6, "held_forces": {"alpha": 0.5, "pairs": [["base", "slab", -0.5 * w, 0.0, w]]}}]}

@@ -68,6 +68,18 @@ def test_squat_block_slides_at_mu(dim):
     assert u[0] > 0 and abs(u[-1]) * 0.5 < 0.1 * u[0]  # a slide in +x, next to no turn
 
 
+def test_a_slab_pushed_off_its_centre_slides_and_turns_on_its_corners():
+    """Sliding and twisting at once on the corner contacts: the closed form of
+    scenes.builders.eccentric_slab_alpha (0.54417 at e = 0.25 m, mu 0.6; derivation there), where
+    the paper's joint, with sliding and twisting independent, would slide at mu. The slab turns
+    clockwise (-rz) while it moves along +x."""
+    e, mu = 0.25, 0.6
+    dem = _alpha(B.eccentric_slab(e=e, mu=mu))
+    assert dem["alpha"] == pytest.approx(B.eccentric_slab_alpha(e, mu=mu), rel=RTOL)
+    ux, uy, uz, rx, ry, rz = dem["displacement"]["slab"]
+    assert ux > 0 and rz < 0
+
+
 @pytest.mark.parametrize("dim", [2, 3])
 def test_stack_of_three_overturns_at_b_over_3h(dim):
     dem = _alpha(B.stack(3, dim, b=0.3, h=0.5, mu=0.8))

@@ -96,6 +96,18 @@ def test_single_block_slides_at_mu_3d():
     assert ux > 0 and abs(ry) * 1.0 < 0.1 * ux and abs(uz) < 0.1 * ux
 
 
+def test_a_slab_pushed_off_its_centre_slides_and_turns_on_its_corners():
+    """Sliding and twisting at once on the corner contacts: the closed form of
+    scenes.builders.eccentric_slab_alpha (0.54417 at e = 0.25 m, mu 0.6; derivation there), where
+    the paper's joint, with sliding and twisting independent, would slide at mu. The slab turns
+    clockwise (-rz) while it moves along +x."""
+    e, mu = 0.25, 0.6
+    dem = _dem(B.eccentric_slab(e=e, mu=mu))
+    assert dem["alpha"] == pytest.approx(B.eccentric_slab_alpha(e, mu=mu), rel=RTOL_SLIDE)
+    ux, uy, uz, rx, ry, rz = dem["displacement"]["slab"]
+    assert ux > 0 and rz < 0
+
+
 def test_pair_friction_overrides_the_scene_friction():
     """A square block (b = h = 1, rocking needs alpha = 1) with mu = 0.8 everywhere except
     its joint with the base, mu = 0.3 there: it slides at alpha = 0.3."""
