@@ -104,6 +104,15 @@ def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
             if lp is not None else f"at or above step 2's {fric:.5g}"}
 
 
+def _assembled_lp(scene, options):
+    """(P, LP solution) of ``scene`` assembled with ``options``."""
+    from limit.analysis import solve_lp
+    from limit.model.assemble import assemble
+
+    P = assemble(scene, options)
+    return P, solve_lp(P)[0]
+
+
 def judge_with_start(scene, dem: dict, la: dict, slack: float = SLACK) -> dict:
     """:func:`judge`, and for a run judged suspect low, step 2 started from the run's own collapse
     state (:func:`limit.step2.adopt_dem_state`: the N iteration from its contact forces, then its
@@ -115,8 +124,7 @@ def judge_with_start(scene, dem: dict, la: dict, slack: float = SLACK) -> dict:
     entry = judge(dem, la, slack)
     if entry.get("verdict") != "suspect" or entry.get("side") != "low":
         return entry
-    from limit.analysis import solve_lp
-    from limit.model.assemble import Options, assemble
+    from limit.model.assemble import Options
     from limit.solve.dem_start import state_of
     from limit.step2 import adopt_dem_state
 
@@ -125,9 +133,8 @@ def judge_with_start(scene, dem: dict, la: dict, slack: float = SLACK) -> dict:
     except ValueError:  # no motion recorded: nothing to start from
         return entry
     model = Options(n_slide=CONE_FACES, slide_fit="inscribed") if scene.dim == 3 else Options()
-    P = assemble(scene, model)
-    sol, _, _ = solve_lp(P)
     fric = entry["fric_alpha"]
+    P, sol = _assembled_lp(scene, model)
     _, ds = adopt_dem_state(P, sol, {"status": "optimal", "alpha": fric}, state)
     start = {"status": ds["status"], "alpha": ds["alpha"], "adopted": ds["adopted"]}
     if ds["adopted"]:
@@ -157,18 +164,16 @@ def point_contact_check(scene, dem: dict, state: dict, entry: dict, slack: float
     against [that point, that LP] (``fric_alpha_step2`` keeps step 2's own on the paper's joints);
     either way the entry gets ``point_contacts`` {"status", "alpha", "lp_alpha"} and the outcome
     at the end of its reason."""
-    from limit.analysis import solve_lp
-    from limit.model.assemble import Options, assemble
     from limit import settings
+    from limit.model.assemble import Options
     from limit.solve.status import Status
     from limit.step2 import adopt_dem_state, lower
 
-    P = assemble(scene, Options(model="vertex", n_slide=CONE_FACES, slide_fit="inscribed"))
-    sol, _, _ = solve_lp(P)
-    lp = sol.alpha if sol.status == Status.OPTIMAL else None
-    if lp is None:
+    P, sol = _assembled_lp(scene, Options(model="vertex", n_slide=CONE_FACES, slide_fit="inscribed"))
+    if sol.status != Status.OPTIMAL:
         return {**entry, "point_contacts": {"status": str(sol.status), "alpha": None, "lp_alpha": None},
                 "reason": entry["reason"] + f"; on point contacts the LP gave no alpha ({sol.status})"}
+    lp = sol.alpha
     _, ds = adopt_dem_state(P, sol, {"status": "failed", "alpha": None}, state)
     found = ds["alpha"] if ds["status"] == Status.OPTIMAL else None
     pc = {"status": str(ds["status"]), "alpha": found, "lp_alpha": lp}

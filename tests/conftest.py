@@ -57,6 +57,20 @@ def catalog_params(paths) -> list:
     return [pytest.param(p, id=p.stem, marks=() if p.stem in FAST_CATALOG else pytest.mark.slow) for p in paths]
 
 
+def check_eccentric_slab(run, rtol: float, e: float = 0.25, mu: float = 0.6) -> None:
+    """An engine on scenes.builders.eccentric_slab: ``run(scene)`` gives its collapsed DEM result.
+    Sliding and twisting at once on the corner contacts: the closed form of
+    scenes.builders.eccentric_slab_alpha (0.54417 at e = 0.25 m, mu 0.6; derivation there), where
+    the paper's joint, with sliding and twisting independent, would slide at mu. The slab turns
+    clockwise (-rz) while it moves along +x."""
+    from scenes import builders as B
+
+    dem = run(B.eccentric_slab(e=e, mu=mu))
+    assert dem["alpha"] == pytest.approx(B.eccentric_slab_alpha(e, mu=mu), rel=rtol)
+    ux, uy, uz, rx, ry, rz = dem["displacement"]["slab"]
+    assert ux > 0 and rz < 0
+
+
 def side_by_side_collapse_forces(scene, mu: float = 0.5) -> tuple[dict, tuple]:
     """The contact forces of the closed-form frictional collapse of the 2D side-by-side blocks
     (scenes.builders.side_by_side, a loaded scene), per block pair as a DEM run records them

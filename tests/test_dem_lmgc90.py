@@ -19,6 +19,7 @@ from dem_validation import run_scene
 from dem_validation.engines.lmgc90.lmgc_main import converge_dt, knobs, search
 from dem_validation.runner import run_job
 from scenes import builders as B
+from tests.conftest import check_eccentric_slab
 
 pytestmark = pytest.mark.lmgc90
 RTOL = 0.01
@@ -69,15 +70,8 @@ def test_squat_block_slides_at_mu(dim):
 
 
 def test_a_slab_pushed_off_its_centre_slides_and_turns_on_its_corners():
-    """Sliding and twisting at once on the corner contacts: the closed form of
-    scenes.builders.eccentric_slab_alpha (0.54417 at e = 0.25 m, mu 0.6; derivation there), where
-    the paper's joint, with sliding and twisting independent, would slide at mu. The slab turns
-    clockwise (-rz) while it moves along +x."""
-    e, mu = 0.25, 0.6
-    dem = _alpha(B.eccentric_slab(e=e, mu=mu))
-    assert dem["alpha"] == pytest.approx(B.eccentric_slab_alpha(e, mu=mu), rel=RTOL)
-    ux, uy, uz, rx, ry, rz = dem["displacement"]["slab"]
-    assert ux > 0 and rz < 0
+    """The closed form of sliding and twisting at once (tests/conftest.py)."""
+    check_eccentric_slab(_alpha, RTOL)
 
 
 @pytest.mark.parametrize("dim", [2, 3])

@@ -38,7 +38,7 @@ from limit.model.loads import dead_and_live
 from limit.model.scene import load_scene
 from scenes import builders as B
 
-from tests.conftest import ROOT, run_module, single_block_job
+from tests.conftest import check_eccentric_slab, ROOT, run_module, single_block_job
 
 pytestmark = pytest.mark.yade
 RTOL = 0.02        # rocking
@@ -97,15 +97,8 @@ def test_single_block_slides_at_mu_3d():
 
 
 def test_a_slab_pushed_off_its_centre_slides_and_turns_on_its_corners():
-    """Sliding and twisting at once on the corner contacts: the closed form of
-    scenes.builders.eccentric_slab_alpha (0.54417 at e = 0.25 m, mu 0.6; derivation there), where
-    the paper's joint, with sliding and twisting independent, would slide at mu. The slab turns
-    clockwise (-rz) while it moves along +x."""
-    e, mu = 0.25, 0.6
-    dem = _dem(B.eccentric_slab(e=e, mu=mu))
-    assert dem["alpha"] == pytest.approx(B.eccentric_slab_alpha(e, mu=mu), rel=RTOL_SLIDE)
-    ux, uy, uz, rx, ry, rz = dem["displacement"]["slab"]
-    assert ux > 0 and rz < 0
+    """The closed form of sliding and twisting at once (tests/conftest.py)."""
+    check_eccentric_slab(_dem, RTOL_SLIDE)
 
 
 def test_pair_friction_overrides_the_scene_friction():
