@@ -1,6 +1,8 @@
 """Both DEM engines on the generated DEM family (scenes/generators/families.py, ``dem_member``),
 structures the engines' knobs were not tuned on, each result judged against the limit analysis's
-bracket [step 2, LP] (dem_validation/bracket.py, the engines' friction cone).
+bracket [step 2, LP] (dem_validation/bracket.py, the engines' friction cone) as
+``python -m dem_validation run`` judges it: a run suspect low is tried as a start of step 2, and
+in 3D on point contacts (:func:`dem_validation.bracket.judge_with_start`).
 
 Per member and engine: the alpha, its verdict (inside, suspect low, suspect high, unchecked,
 or the run's status), the time, and LMGC90's alpha at each of its halved time steps. ``$DEM_FAMILY_COUNT`` members (default 8, every kind once) of
@@ -19,7 +21,7 @@ import pandas as pd
 
 from dem_validation import engines
 from dem_validation.api import run_scene
-from dem_validation.bracket import judge, limit_analysis
+from dem_validation.bracket import judge_with_start, limit_analysis
 from limit.model.scene import load_scene
 from reports.table import dt_text
 from scenes.generators.families import dem_family
@@ -46,7 +48,7 @@ def rows(scene_dict: dict) -> list[dict]:
     out = []
     for engine in ENGINES:
         dem = run_scene(scene, engine=engine, timeout_s=TIMEOUT)
-        br = judge(dem, la)
+        br = judge_with_start(scene, dem, la)  # as `python -m dem_validation run` judges it
         verdict = (br["verdict"] if br["verdict"] != "suspect" else f"suspect {br['side']}") \
             if dem.get("status") == "collapsed" else dem.get("status")
         out.append({"index": f["index"], "kind": f["kind"], "dim": f["dim"], "free": len(scene.free), "mu": f["mu"],

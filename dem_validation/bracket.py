@@ -154,31 +154,41 @@ def judge_with_start(scene, dem: dict, la: dict, slack: float = SLACK) -> dict:
 POINT_CONTACTS = f"point contacts at the joints' corners, {CONE_FACES} inscribed sliding faces"
 
 
-def point_contact_check(scene, dem: dict, state: dict, entry: dict, slack: float = SLACK) -> dict:
-    """A 3D run judged suspect low, judged again with the engines' joints: point contacts at each
-    contact polygon's corners (:class:`limit.model.assemble.Options` model "vertex", 24 inscribed
-    sliding faces), the LP and step 2 from the run's state ``state``
-    (:func:`limit.solve.dem_start.state_of`; step 2's own search on point contacts is not run:
-    on the cross vault it takes ten times as long as on the paper's joints). Where that verifies a
-    point lower than the entry's lower bound by more than the setting lower_by, the run is judged
-    against [that point, that LP] (``fric_alpha_step2`` keeps step 2's own on the paper's joints);
-    either way the entry gets ``point_contacts`` {"status", "alpha", "lp_alpha"} and the outcome
-    at the end of its reason."""
+def point_contact_state(scene, state: dict) -> dict:
+    """The LP and step 2 from a run's state ``state`` (:func:`limit.solve.dem_start.state_of`) on
+    point contacts at each contact polygon's corners (:class:`limit.model.assemble.Options` model
+    "vertex", 24 inscribed sliding faces): {"status", "alpha" (None unless verified), "lp_alpha",
+    "lower_by" (the scene's setting)}.
+    Step 2's own search on point contacts is not run: on the cross vault it takes ten times as
+    long as on the paper's joints."""
     from limit import settings
     from limit.model.assemble import Options
     from limit.solve.status import Status
-    from limit.step2 import adopt_dem_state, lower
+    from limit.step2 import adopt_dem_state
 
     P, sol = _assembled_lp(scene, Options(model="vertex", n_slide=CONE_FACES, slide_fit="inscribed"))
+    by = settings.of(P).lower_by
     if sol.status != Status.OPTIMAL:
-        return {**entry, "point_contacts": {"status": str(sol.status), "alpha": None, "lp_alpha": None},
-                "reason": entry["reason"] + f"; on point contacts the LP gave no alpha ({sol.status})"}
-    lp = sol.alpha
+        return {"status": str(sol.status), "alpha": None, "lp_alpha": None, "lower_by": by}
     _, ds = adopt_dem_state(P, sol, {"status": "failed", "alpha": None}, state)
-    found = ds["alpha"] if ds["status"] == Status.OPTIMAL else None
-    pc = {"status": str(ds["status"]), "alpha": found, "lp_alpha": lp}
-    fric = entry["fric_alpha"]
-    if not lower(found, fric, settings.of(P).lower_by):
+    return {"status": str(ds["status"]), "alpha": ds["alpha"] if ds["status"] == Status.OPTIMAL else None,
+            "lp_alpha": sol.alpha, "lower_by": by}
+
+
+def on_point_contacts(dem: dict, entry: dict, pc: dict, slack: float = SLACK) -> dict:
+    """A 3D run's bracket ``entry``, judged again on point contacts ``pc``
+    (:func:`point_contact_state`). Where ``pc`` verifies a point lower than the entry's lower
+    bound by more than its ``lower_by`` (the setting), the run is judged against [that point, that LP]
+    (``fric_alpha_step2`` keeps step 2's own on the paper's joints); either way the entry gets
+    ``point_contacts`` and the outcome at the end of its reason."""
+    from limit.settings import DEFAULT
+    from limit.step2 import lower
+
+    fric, found, lp = entry["fric_alpha"], pc.get("alpha"), pc.get("lp_alpha")
+    if lp is None:
+        return {**entry, "point_contacts": pc,
+                "reason": entry["reason"] + f"; on point contacts the LP gave no alpha ({pc.get('status')})"}
+    if not lower(found, fric, pc.get("lower_by", DEFAULT.lower_by)):
         told = f"verified {found:.5g}, not lower" if found is not None else "verified no point"
         return {**entry, "point_contacts": pc,
                 "reason": entry["reason"] + f"; on point contacts at the joints' corners, as the engines carry "
@@ -190,6 +200,12 @@ def point_contact_check(scene, dem: dict, state: dict, entry: dict, slack: float
             "reason": again["reason"] + f" (on point contacts at the joints' corners, as the engines carry them: "
                                         f"step 2 from this run's state verified {found:.5g}, the LP {lp:.5g}; "
                                         f"on the paper's joints step 2 gave {fric:.5g})"}
+
+
+def point_contact_check(scene, dem: dict, state: dict, entry: dict, slack: float = SLACK) -> dict:
+    """A 3D run judged suspect low, judged again with the engines' joints:
+    :func:`on_point_contacts` with :func:`point_contact_state` from the run's ``state``."""
+    return on_point_contacts(dem, entry, point_contact_state(scene, state), slack)
 
 
 def label(entry: dict | None) -> str:

@@ -9,7 +9,8 @@ rigid blocks do not have. The engine's collapse state is tried as a start: where
 verifies below step 2, it is the limit analysis's answer from then on (the report says where it
 came from); where it does not, the contradiction stays and is counted. The limit analysis
 compared is the ``cone`` stage's in 3D (the friction cone of both engines) and the ``la``
-stage's in 2D. These runs take a few seconds to a minute each and run only on the
+stage's in 2D. A 3D collapse still below is tried once more on point contacts at the joints'
+corners, as both engines carry a joint (:mod:`dem_validation.bracket`). These runs take a few seconds to a minute each and run only on the
 contradictions, so they are not cached.
 """
 from __future__ import annotations
@@ -79,7 +80,10 @@ def run(files, results: dict, progress: bool = True) -> dict:
 
 
 def one(data: dict, la: dict, dem: dict, engine: str, stage: str) -> dict:
-    """Step 2 from one engine's collapse state, with the limit-analysis stage's friction model."""
+    """Step 2 from one engine's collapse state, with the limit-analysis stage's friction model. In
+    3D (stage "cone"), where the engine's alpha is still below, the entry also gets
+    ``point_contacts``: the LP and step 2 from that state on the engines' own joints
+    (:func:`dem_validation.bracket.point_contact_state`)."""
     from limit.analysis import solve_lp
     from limit.model.assemble import Options, assemble
     from limit.model.scene import load_scene
@@ -94,7 +98,13 @@ def one(data: dict, la: dict, dem: dict, engine: str, stage: str) -> dict:
 
     state = {**state_of(dem), "source": engine}
     _, entry = adopt_dem_state(P, sol, la.get("nlp") or {}, state)
-    return {k: v for k, v in entry.items() if k != "tried"}
+    entry = {k: v for k, v in entry.items() if k != "tried"}
+    fric = entry["alpha"] if entry.get("adopted") else fric_alpha(la)
+    if stage == "cone" and below(collapse_alpha(dem), fric):
+        from dem_validation.bracket import point_contact_state
+
+        entry["point_contacts"] = point_contact_state(P.scene, state)
+    return entry
 
 
 def adopted_alpha(entries) -> float | None:

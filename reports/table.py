@@ -31,7 +31,10 @@ Columns (alpha values dimensionless, times in seconds):
   ``dem_vs_cone``, ``lmgc_vs_cone``; empty in 2D, where two faces are exact;
 * ``dem_bracket``, ``lmgc_bracket``: "suspect low" / "suspect high" where the engine's alpha lies
   below the frictional limit analysis or above the LP (the cone's in 3D) by more than 1 %
-  (:mod:`dem_validation.bracket`), else empty;
+  (:mod:`dem_validation.bracket`), else empty; in 3D a run suspect low is judged again on point
+  contacts at the joints' corners where step 2 from an engine's state verifies a lower point
+  there (``pc_alpha``, ``pc_lp_alpha``, ``pc_from``: that point, its LP and the engine whose
+  state it came from; ``dem_bracket_model``, ``lmgc_bracket_model``: the joint model judged on);
 * ``mech_similarity``: the cosine between the limit-analysis mechanism and the
   DEM motion, compared through the velocities of every block vertex
   (scale-free: 1 = the same motion, 0 = unrelated).
@@ -195,13 +198,20 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     r["cone_alpha_step2"] = r["cone_alpha"]
     if ds is not None and data.get("dim") == 3:
         r["cone_alpha"] = min(ds, r["cone_alpha"]) if r["cone_alpha"] is not None else ds
-    from dem_validation.bracket import cone_lp_factor, judge, label
+    from dem_validation.bracket import cone_lp_factor, judge, label, on_point_contacts
 
     three = data.get("dim") == 3
     la_br = {"fric_alpha": r["cone_alpha"] if three else r["fric_alpha"],
              "lp_alpha": r["cone_lp_alpha"] if three else r["lp_alpha"], "lp_factor": cone_lp_factor(3 if three else 2)}
-    r["dem_bracket"] = label(judge(dem, la_br))
-    r["lmgc_bracket"] = label(judge(lm, la_br))
+    pc = point_contacts(dem_start) if three else None
+    r.update(pc_alpha=(pc or {}).get("alpha"), pc_lp_alpha=(pc or {}).get("lp_alpha"),
+             pc_from=(pc or {}).get("engine", ""))
+    for key, res in (("dem", dem), ("lmgc", lm)):
+        entry = judge(res, la_br)
+        if pc is not None and entry["verdict"] == "suspect" and entry["side"] == "low":
+            entry = on_point_contacts(res, entry, pc)
+        r[f"{key}_bracket"] = label(entry)
+        r[f"{key}_bracket_model"] = entry.get("model", "")
     r["dem_vs_cone"] = _rel(r["dem_alpha"], r["cone_alpha"])
     r["lmgc_vs_cone"] = _rel(r["lmgc_alpha"], r["cone_alpha"])
     mech, kind = la_mechanism(la)
@@ -213,6 +223,14 @@ def row(path: Path, la: dict | None, dem: dict | None, lmgc: dict | None = None,
     except Exception:  # noqa: BLE001 - a rejected scene has no mechanism to compare
         r["mech_similarity"] = r["lmgc_similarity"] = float("nan")
     return r
+
+
+def point_contacts(entries) -> dict | None:
+    """The lowest verified point-contact state of a scene's DEM starts (:mod:`reports.dem_starts`:
+    each engine's ``point_contacts``, with ``engine`` added), else the first tried (None: none)."""
+    tried = [{**e["point_contacts"], "engine": e.get("engine", "")} for e in entries or [] if e.get("point_contacts")]
+    verified = [t for t in tried if t.get("alpha") is not None]
+    return min(verified, key=lambda t: t["alpha"]) if verified else (tried[0] if tried else None)
 
 
 def results_table(files, results: dict, with_dem: bool = True, with_lmgc: bool = False,
@@ -255,26 +273,33 @@ ENGINE_COLUMNS = [
 def contradictions(df: pd.DataFrame, step2_only: bool = False) -> list[tuple]:
     """(scene, engine, dynamic alpha, frictional alpha, relative gap) of every dynamic collapse below
     the frictional limit analysis by more than :data:`reports.dem_starts.SLACK`: the 24-face cone's
-    in 3D, the paper model's in 2D. ``step2_only``: against step 2's own alpha (before the DEM
-    starts)."""
+    in 3D, the paper model's in 2D, or on point contacts where the run was judged on them
+    (``*_bracket_model``). ``step2_only``: against step 2's own alpha (before the DEM starts and
+    point contacts)."""
+    from dem_validation.bracket import POINT_CONTACTS
+
     from .dem_starts import below
+
+    def number(v):
+        return None if v is None or (isinstance(v, float) and not np.isfinite(v)) else float(v)
 
     out = []
     for _, r in df.iterrows():
         col = ("cone_alpha" if r.get("dim") == 3 else "fric_alpha") + ("_step2" if step2_only else "")
-        fric = r.get(col)
-        fric = None if fric is None or (isinstance(fric, float) and not np.isfinite(fric)) else float(fric)
         for key, engine in (("dem", "YADE"), ("lmgc", "LMGC90")):
-            a = r.get(f"{key}_alpha")
-            a = None if a is None or (isinstance(a, float) and not np.isfinite(a)) else float(a)
+            on_pc = not step2_only and r.get(f"{key}_bracket_model") == POINT_CONTACTS
+            fric = number(r.get("pc_alpha" if on_pc else col))
+            a = number(r.get(f"{key}_alpha"))
             if r.get(f"{key}_status") == "collapsed" and below(a, fric):
-                out.append((r["name"], engine, a, fric, a / fric - 1.0))
+                out.append((r["name"], engine + (" (point contacts)" if on_pc else ""), a, fric, a / fric - 1.0))
     return out
 
 
 def contradictions_markdown(df: pd.DataFrame) -> str:
     """A few lines: how many dynamic results lie below the frictional limit analysis, before and
     after the DEM starts, and which."""
+    from dem_validation.bracket import POINT_CONTACTS
+
     before, after = contradictions(df, step2_only=True), contradictions(df)
     n = int(sum((df.get(f"{k}_status") == "collapsed").sum() for k in ("dem", "lmgc") if f"{k}_status" in df))
     lines = [f"Dynamic collapses below the frictional limit analysis (by more than 1 %): {len(after)} of {n} "
@@ -282,6 +307,12 @@ def contradictions_markdown(df: pd.DataFrame) -> str:
     adopted = df[df["dstart_from"].astype(bool)] if "dstart_from" in df else df.iloc[0:0]
     for _, r in adopted.iterrows():
         lines.append(f"- {r['name']}: step 2 from the {r['dstart_from']} collapse state verified {r['dstart_alpha']:.5g}.")
+    for _, r in df.iterrows():
+        judged = [e for k, e in (("dem", "YADE"), ("lmgc", "LMGC90")) if r.get(f"{k}_bracket_model") == POINT_CONTACTS]
+        if judged:
+            lines.append(f"- {r['name']}: {' and '.join(judged)} judged on point contacts at the joints' corners, as "
+                         f"the engines carry them: step 2 from the {r['pc_from']} state verified {r['pc_alpha']:.5g}, "
+                         f"the LP {r['pc_lp_alpha']:.5g}.")
     for name, engine, a, fric, gap in after:
         lines.append(f"- {name}: {engine} {a:.5g} against {fric:.5g} ({gap:+.1%})")
     return "\n".join(lines) + "\n"

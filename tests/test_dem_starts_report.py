@@ -3,6 +3,7 @@
 whose frictional collapse is 23/61 in closed form (derived in the builder's docstring; the
 mechanism's displacement is derived in tests/test_dem_start.py)."""
 import json
+import math
 
 import pandas as pd
 import pytest
@@ -82,3 +83,58 @@ def test_no_start_where_the_engines_are_inside_the_bracket(scene_file, la):
     assert dem_starts.run([scene_file], results, progress=False) == {}
     df = table.results_table([scene_file], results, with_dem=True, with_lmgc=True, dem_start={})
     assert table.contradictions(df) == [] and isinstance(df, pd.DataFrame)
+
+
+@pytest.fixture(scope="module")
+def slab(tmp_path_factory):
+    """The eccentric slab (scenes.builders.eccentric_slab, e = 0.25 m, mu 0.6) as a file, its
+    ``la`` and ``cone`` stages as the validation runs them (reports.stages), and its weight W (N)."""
+    import numpy as np
+
+    from reports.stages import cone_options, la_options, run_cone, run_la
+
+    d = B.eccentric_slab(e=0.25, mu=0.6, name="slab")
+    path = tmp_path_factory.mktemp("pc") / "slab.json"
+    path.write_text(json.dumps(d))
+    la_res = json.loads(json.dumps(run_la(str(path), la_options(d), curve=False), default=float))
+    cone = json.loads(json.dumps(run_cone(str(path), cone_options(d)), default=float))
+    scene = load_scene(path)
+    w = next(b for b in scene.blocks if b.id == "slab").mass * float(np.linalg.norm(scene.gravity))
+    return path, la_res, cone, w
+
+
+def _slab_run(alpha, w):
+    return {"status": "collapsed", "alpha": alpha, "displacement": {"slab": [1e-3, 0, 0, 0, 0, -1e-3]},
+            "runs": [{"eps": 2.5e-6, "held_forces": {"alpha": alpha, "pairs": [["base", "slab", -alpha * w, 0.0, w]]}}]}
+
+
+def test_a_3d_engine_below_the_papers_joints_is_judged_on_point_contacts_in_the_report(slab):
+    """The slab pushed 0.25 m off its centre (mu 0.6): the cone stage's step 2 slides it at
+    mu cos(pi/24) = 0.59487 (the paper's joints), while on four corner contacts a collapse state
+    with equal normal forces lies at the closed form of
+    :func:`scenes.builders.eccentric_slab_alpha`, 0.54417 (derived in its docstring). YADE at
+    0.54 and LMGC90 at 0.50: both suspect low on the paper's joints. The validation's DEM starts
+    find nothing lower there, so each entry tries point contacts; the lowest verified state there
+    lies at or below the closed form. The table then judges YADE inside on point contacts and
+    LMGC90 still suspect low against that point, and the contradiction count goes from 2 to 1."""
+    path, la_res, cone, w = slab
+    corners = B.eccentric_slab_alpha(0.25, mu=0.6)
+    assert cone["nlp"]["alpha"] == pytest.approx(0.6 * math.cos(math.pi / 24), rel=1e-5)
+    results = {("slab", "la"): la_res, ("slab", "cone"): cone, ("slab", "dem"): _slab_run(0.54, w),
+               ("slab", "lmgc"): _slab_run(0.50, w)}
+    starts = dem_starts.run([path], results, progress=False)
+    assert [e["engine"] for e in starts["slab"]] == ["yade", "lmgc90"]
+    for e in starts["slab"]:
+        assert e["adopted"] is False
+        pc = e["point_contacts"]
+        assert pc["alpha"] <= corners * (1 + 1e-6) and pc["alpha"] <= pc["lp_alpha"] * (1 + 1e-6)
+    df = table.results_table([path], results, with_dem=True, with_lmgc=True, dem_start=starts)
+    r = df.iloc[0]
+    assert r["dem_bracket"] == "" and r["dem_bracket_model"].startswith("point contacts")
+    assert r["lmgc_bracket"] == "suspect low" and r["pc_alpha"] <= corners * (1 + 1e-6)
+    assert len(table.contradictions(df, step2_only=True)) == 2
+    (c,) = table.contradictions(df)
+    assert c[:2] == ("slab", "LMGC90 (point contacts)") and c[3] == pytest.approx(r["pc_alpha"])
+    text = table.contradictions_markdown(df)
+    assert "1 of 2 collapsed engine results (2 against step 2 before" in text
+    assert "YADE and LMGC90 judged on point contacts" in text
