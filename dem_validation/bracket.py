@@ -4,8 +4,8 @@ For rigid blocks on frictional, no-tension joints, no collapse can happen below 
 minimum, and the associative LP is an upper bound of every frictional collapse (Baggio &
 Trovalusci, section 3; Radenkovic's theorems). Step 2's verified alpha is a frictional collapse
 state, so the minimum is at or below it: a dynamic alpha below step 2's is either a lower state
-that step 2 missed or something the engine adds (time step, contact compliance, creep). The
-command tries the first: step 2 from the run's own state (:func:`judge_with_start`, as
+that step 2 missed or something the engine adds (time step, contact compliance, inertia past a
+held state, creep). The command tries the first: step 2 from the run's own state (:func:`judge_with_start`, as
 ``limit solve --dem-start`` does). A dynamic alpha above the LP has no such excuse for rigid
 blocks. Either is marked ``suspect``, with the reason, beyond a relative :data:`SLACK`. The
 limit analysis uses the engines' friction: a near-circular cone (24 inscribed sliding faces) in
@@ -90,7 +90,8 @@ def judge(dem: dict, la: dict, slack: float = SLACK) -> dict:
                 "reason": (f"{a:.5g} is {100 * (1 - a / fric):.1f} % below step 2's frictional collapse at {fric:.5g}: "
                            "rigid blocks cannot collapse below the frictional minimum, so either step 2 missed a "
                            "lower state (limit solve --dem-start tries this run's state) or the engine adds "
-                           "something rigid blocks do not have (time step, contact compliance, creep)"
+                           "something rigid blocks do not have (time step, contact compliance, inertia past a "
+                           "held state, creep)"
                            + _time_step_note(dem))}
     if lp is not None and a > lp * (1.0 + slack):
         return {**out, "verdict": "suspect", "side": "high",
