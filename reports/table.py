@@ -297,7 +297,8 @@ def contradictions(df: pd.DataFrame, step2_only: bool = False) -> list[tuple]:
 
 def contradictions_markdown(df: pd.DataFrame) -> str:
     """A few lines: how many dynamic results lie below the frictional limit analysis, before and
-    after the DEM starts, and which."""
+    after the DEM starts and the point-contact check, which runs were judged on point contacts,
+    and which results stay below."""
     from dem_validation.bracket import POINT_CONTACTS
 
     before, after = contradictions(df, step2_only=True), contradictions(df)
