@@ -5,8 +5,8 @@ minimum, and the associative LP is an upper bound of every frictional collapse (
 Trovalusci, section 3; Radenkovic's theorems). Step 2's verified alpha is a frictional collapse
 state, so the minimum is at or below it: a dynamic alpha below step 2's is either a lower state
 that step 2 missed or something the engine adds (time step, contact compliance, inertia past a
-held state, creep). The command tries the first: step 2 from the run's own state (:func:`judge_with_start`, as
-``limit solve --dem-start`` does). A dynamic alpha above the LP has no such excuse for rigid
+held state, creep). The command tries the first: step 2 from the run's own state
+(:func:`judge_with_start`, as ``limit solve --dem-start`` does). A dynamic alpha above the LP has no such excuse for rigid
 blocks. Either is marked ``suspect``, with the reason, beyond a relative :data:`SLACK`. The
 limit analysis uses the engines' friction: a near-circular cone (24 inscribed sliding faces) in
 3D, the exact two faces in 2D. The inscribed polygon is up to 1 - cos(pi/24) = 0.86 % inside the
@@ -179,9 +179,9 @@ def point_contact_state(scene, state: dict) -> dict:
 def on_point_contacts(dem: dict, entry: dict, pc: dict, slack: float = SLACK) -> dict:
     """A 3D run's bracket ``entry``, judged again on point contacts ``pc``
     (:func:`point_contact_state`). Where ``pc`` verifies a point lower than the entry's lower
-    bound by more than its ``lower_by`` (the setting), the run is judged against [that point, that LP]
-    (``fric_alpha_step2`` keeps step 2's own on the paper's joints); either way the entry gets
-    ``point_contacts`` and the outcome at the end of its reason."""
+    bound by more than its ``lower_by`` (the setting), the run is judged against [that point,
+    that LP] (``fric_alpha_step2`` keeps step 2's own on the paper's joints); either way the entry
+    gets ``point_contacts`` and the outcome at the end of its reason."""
     from limit.settings import DEFAULT
     from limit.step2 import lower
 

@@ -10,8 +10,8 @@ verifies below step 2, it is the limit analysis's answer from then on (the repor
 came from); where it does not, the contradiction stays and is counted. The limit analysis
 compared is the ``cone`` stage's in 3D (the friction cone of both engines) and the ``la``
 stage's in 2D. A 3D collapse still below is tried once more on point contacts at the joints'
-corners, as both engines carry a joint (:mod:`dem_validation.bracket`). These runs take a few seconds to a minute each and run only on the
-contradictions, so they are not cached.
+corners, as both engines carry a joint (:mod:`dem_validation.bracket`). These runs take a few
+seconds to a minute each and run only on the contradictions, so they are not cached.
 """
 from __future__ import annotations
 

@@ -71,6 +71,17 @@ def check_eccentric_slab(run, rtol: float, e: float = 0.25, mu: float = 0.6) -> 
     assert ux > 0 and rz < 0
 
 
+def eccentric_slab_run(scene, alpha: float, rz: float = -1e-3) -> dict:
+    """A collapsed DEM result of the loaded eccentric slab (scenes.builders.eccentric_slab) at
+    ``alpha``: a motion along +x turning by ``rz`` (rad), and at its highest equilibrium the
+    base's force (-alpha W, 0, W) on the slab, W its weight (N)."""
+    import numpy as np
+
+    w = next(b for b in scene.blocks if b.id == "slab").mass * float(np.linalg.norm(scene.gravity))
+    return {"status": "collapsed", "alpha": alpha, "displacement": {"slab": [1e-3, 0, 0, 0, 0, rz]},
+            "runs": [{"eps": 2.5e-6, "held_forces": {"alpha": alpha, "pairs": [["base", "slab", -alpha * w, 0.0, w]]}}]}
+
+
 def side_by_side_collapse_forces(scene, mu: float = 0.5) -> tuple[dict, tuple]:
     """The contact forces of the closed-form frictional collapse of the 2D side-by-side blocks
     (scenes.builders.side_by_side, a loaded scene), per block pair as a DEM run records them

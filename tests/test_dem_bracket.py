@@ -3,8 +3,6 @@ in the DEM command's result file and in the validation report's tables."""
 import json
 import math
 
-import numpy as np
-
 import pandas as pd
 import pytest
 
@@ -13,7 +11,7 @@ from dem_validation.bracket import judge, judge_with_start, label, limit_analysi
 from limit.model.scene import load_scene
 from reports import table
 from scenes import builders as B
-from tests.conftest import side_by_side_collapse_forces
+from tests.conftest import eccentric_slab_run, side_by_side_collapse_forces
 
 CLOSED = B.side_by_side_alpha(mu=0.5)  # 23/61
 
@@ -127,13 +125,6 @@ def test_a_run_below_a_step2_that_stopped_high_is_judged_against_the_lower_state
     assert b["fric_alpha_step2"] == 0.41 and b["dem_start"]["adopted"] is True
 
 
-def _eccentric_slab(e, mu=0.6):
-    """:func:`scenes.builders.eccentric_slab` loaded, and its weight W (N)."""
-    scene = load_scene(B.eccentric_slab(e=e, mu=mu))
-    slab = next(b for b in scene.blocks if b.id == "slab")
-    return scene, slab.mass * float(np.linalg.norm(scene.gravity))
-
-
 def test_a_3d_run_below_the_papers_joints_is_judged_on_the_engines_point_contacts():
     """A slab pushed 0.25 m off its centre (mu 0.6). On the paper's joints sliding and twisting
     are independent, so it slides at mu along x, which the 24 inscribed faces meet at mid-face:
@@ -144,14 +135,12 @@ def test_a_3d_run_below_the_papers_joints_is_judged_on_the_engines_point_contact
     0.54 with the base's force (-alpha W, 0, W) on the slab is suspect low on the paper's joints
     and inside once judged on point contacts."""
     e, mu = 0.25, 0.6
-    scene, w = _eccentric_slab(e, mu)
+    scene = load_scene(B.eccentric_slab(e=e, mu=mu))
     paper = limit_analysis(scene)
     assert paper["fric_alpha"] == pytest.approx(mu * math.cos(math.pi / 24), rel=1e-5)
     corners = B.eccentric_slab_alpha(e, mu=mu)
     assert corners < 0.99 * paper["fric_alpha"]
-    alpha = 0.54
-    dem = {"status": "collapsed", "alpha": alpha, "displacement": {"slab": [1e-3, 0, 0, 0, 0, -1e-3]},
-           "runs": [{"eps": 2.5e-6, "held_forces": {"alpha": alpha, "pairs": [["base", "slab", -alpha * w, 0.0, w]]}}]}
+    dem = eccentric_slab_run(scene, 0.54)
     assert judge(dem, paper)["side"] == "low"
     b = judge_with_start(scene, dem, paper)
     assert b["verdict"] == "inside", b["reason"]
@@ -165,11 +154,10 @@ def test_a_centred_push_gives_the_same_on_point_contacts():
     """Pushed through its centre the slab slides at mu on either joint model (the corners' closed
     form tends to mu as e -> 0): a run at 0.5 stays suspect low, and the reason says that point
     contacts verified nothing lower."""
-    scene, w = _eccentric_slab(0.0)
+    scene = load_scene(B.eccentric_slab(e=0.0, mu=0.6))
     assert B.eccentric_slab_alpha(1e-6, mu=0.6) == pytest.approx(0.6, rel=1e-5)
     paper = limit_analysis(scene)
-    dem = {"status": "collapsed", "alpha": 0.5, "displacement": {"slab": [1e-3, 0, 0, 0, 0, 0]},
-           "runs": [{"eps": 2.5e-6, "held_forces": {"alpha": 0.5, "pairs": [["base", "slab", -0.5 * w, 0.0, w]]}}]}
+    dem = eccentric_slab_run(scene, 0.5, rz=0.0)
     b = judge_with_start(scene, dem, paper)
     assert b["verdict"] == "suspect" and b["side"] == "low"
     assert b["point_contacts"]["alpha"] >= paper["fric_alpha"] * (1 - 1e-6)

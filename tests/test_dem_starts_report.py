@@ -12,7 +12,7 @@ from limit.analysis import analyse
 from limit.model.scene import load_scene
 from reports import dem_starts, table
 from scenes import builders as B
-from tests.conftest import side_by_side_collapse_forces
+from tests.conftest import eccentric_slab_run, side_by_side_collapse_forces
 
 CLOSED = B.side_by_side_alpha(mu=0.5)
 MECHANISM = {"A": [0.5, 0.1, -1.0], "B": [0.6, 0.0, 0.0]}
@@ -88,9 +88,7 @@ def test_no_start_where_the_engines_are_inside_the_bracket(scene_file, la):
 @pytest.fixture(scope="module")
 def slab(tmp_path_factory):
     """The eccentric slab (scenes.builders.eccentric_slab, e = 0.25 m, mu 0.6) as a file, its
-    ``la`` and ``cone`` stages as the validation runs them (reports.stages), and its weight W (N)."""
-    import numpy as np
-
+    ``la`` and ``cone`` stages as the validation runs them (reports.stages), and the loaded scene."""
     from reports.stages import cone_options, la_options, run_cone, run_la
 
     d = B.eccentric_slab(e=0.25, mu=0.6, name="slab")
@@ -98,14 +96,7 @@ def slab(tmp_path_factory):
     path.write_text(json.dumps(d))
     la_res = json.loads(json.dumps(run_la(str(path), la_options(d), curve=False), default=float))
     cone = json.loads(json.dumps(run_cone(str(path), cone_options(d)), default=float))
-    scene = load_scene(path)
-    w = next(b for b in scene.blocks if b.id == "slab").mass * float(np.linalg.norm(scene.gravity))
-    return path, la_res, cone, w
-
-
-def _slab_run(alpha, w):
-    return {"status": "collapsed", "alpha": alpha, "displacement": {"slab": [1e-3, 0, 0, 0, 0, -1e-3]},
-            "runs": [{"eps": 2.5e-6, "held_forces": {"alpha": alpha, "pairs": [["base", "slab", -alpha * w, 0.0, w]]}}]}
+    return path, la_res, cone, load_scene(path)
 
 
 def test_a_3d_engine_below_the_papers_joints_is_judged_on_point_contacts_in_the_report(slab):
@@ -117,11 +108,11 @@ def test_a_3d_engine_below_the_papers_joints_is_judged_on_point_contacts_in_the_
     find nothing lower there, so each entry tries point contacts; the lowest verified state there
     lies at or below the closed form. The table then judges YADE inside on point contacts and
     LMGC90 still suspect low against that point, and the contradiction count goes from 2 to 1."""
-    path, la_res, cone, w = slab
+    path, la_res, cone, scene = slab
     corners = B.eccentric_slab_alpha(0.25, mu=0.6)
     assert cone["nlp"]["alpha"] == pytest.approx(0.6 * math.cos(math.pi / 24), rel=1e-5)
-    results = {("slab", "la"): la_res, ("slab", "cone"): cone, ("slab", "dem"): _slab_run(0.54, w),
-               ("slab", "lmgc"): _slab_run(0.50, w)}
+    results = {("slab", "la"): la_res, ("slab", "cone"): cone, ("slab", "dem"): eccentric_slab_run(scene, 0.54),
+               ("slab", "lmgc"): eccentric_slab_run(scene, 0.50)}
     starts = dem_starts.run([path], results, progress=False)
     assert [e["engine"] for e in starts["slab"]] == ["yade", "lmgc90"]
     for e in starts["slab"]:
