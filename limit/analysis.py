@@ -76,22 +76,24 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     log.info("%s: LP %s, alpha %s (%.1f s)", scene.name, sol.status, "-" if sol.alpha is None else f"{sol.alpha:.6g}",
              time.perf_counter() - t0)
     if method != "lp":
+        t2 = time.perf_counter()
         part = step2.step2(P, sol, method=method, **(nlp_options or {}))
         log.info("%s: step 2 %s, alpha %s", scene.name, part.status,
                  "-" if part.alpha is None else f"{part.alpha:.6g}")
         st = settings.of(P)
         # the nearby starts below: small scenes with an LP optimum only
         nearby = sol.status == Status.OPTIMAL and len(scene.free) < st.large_min_free
+        budget = _NearbyBudget(part, st, nlp_options, t2)
         if nearby and st.direction_starts_deg > 0 and _turnable(scene):
             deg = st.direction_starts_deg
             log.info("%s: step 2 with the live load turned by +-%g deg", scene.name, deg)
-            part = _from_turned_directions(scene, P, sol, part, deg, options, nlp_options)
+            part = _from_turned_directions(scene, P, sol, part, deg, options, budget)
         if nearby and st.friction_starts and not needs_nlp(P, sol)[0]:
             log.info("%s: step 2 at reduced friction", scene.name)
-            part = _from_reduced_friction(P, sol, part, options, nlp_options)
+            part = _from_reduced_friction(P, sol, part, options, budget)
         if nearby and st.mirror_starts and _turnable(scene):
             log.info("%s: step 2 under the reversed live load, mirrored", scene.name)
-            part = _from_mirror(scene, P, sol, part, options, nlp_options)
+            part = _from_mirror(scene, P, sol, part, options, budget)
     lower_bound = None
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
         from limit.solve import radenkovic
@@ -108,12 +110,44 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
     return Analysis(result, P, sol)
 
 
+class _NearbyBudget:
+    """The step-2 keywords of the nearby starts, and what is left of step 2's hard budget for them.
+
+    Once step 2 has a verified point, each nearby start has the budgets of a step 2 of its own.
+    Without one, step 2 stops for good after ``hard_factor`` times its budget (the settings
+    ``hard_factor`` and ``nlp_time_budget``, or the ``time_budget`` keyword), and its nearby
+    starts share what is left of that: each begins only while time is left, with its own
+    budget cut so that its hard limit ends there. ``t0``: perf_counter s at step 2's start."""
+
+    def __init__(self, part: StepResult, st, nlp_options: dict | None, t0: float):
+        self.nlp_options = dict(nlp_options or {})
+        budget = self.nlp_options.get("time_budget", step2.FROM_SETTINGS)
+        budget = st.nlp_time_budget if budget == step2.FROM_SETTINGS else budget
+        verified = part.status in ANSWERED and part.alpha is not None
+        self.factor = st.hard_factor
+        self.hard_s = None if verified or budget is None else st.hard_factor * float(budget)
+        self.end = None if self.hard_s is None else t0 + self.hard_s
+
+    def options(self, drop: tuple) -> dict | None:
+        """The step-2 keywords of one nearby start, without ``drop``; None when no time is left."""
+        out = {k: v for k, v in self.nlp_options.items() if k not in drop}
+        if self.end is None:
+            return out
+        left = self.end - time.perf_counter()
+        return None if left <= 0 else {**out, "time_budget": left / self.factor}
+
+    def spent(self) -> str:
+        """Why a nearby start does not begin."""
+        return (f"not begun: no verified point, and step 2's hard budget ({self.factor:g} x its budget, "
+                f"{self.hard_s:.0f} s) is spent")
+
+
 def _turnable(scene) -> bool:
     """A 3D scene whose live load is body forces only (the direction sweep can turn it)."""
     return scene.dim == 3 and bool(scene.live) and all(ld.get("type") == "body_force" for ld in scene.live)
 
 
-def _from_turned_directions(scene, P, sol, part: StepResult, deg: int, options, nlp_options) -> StepResult:
+def _from_turned_directions(scene, P, sol, part: StepResult, deg: int, options, budget: _NearbyBudget) -> StepResult:
     """Step 2's part, also from the collapse states of the scene with its live load turned by
     +-``deg`` degrees about the vertical (the setting ``direction_starts_deg``): step 2 is a local
     search, and a state found under a nearby load direction can lie in a lower basin (Fig. 6:
@@ -123,13 +157,16 @@ def _from_turned_directions(scene, P, sol, part: StepResult, deg: int, options, 
     from limit.model.scene import load_scene
     from limit.model.turned_load import turned
 
-    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state", "global_check", "iterative"),
-                                         direction_starts_deg=0, friction_starts=False)
+    sub_options = _sub_options(P, options, direction_starts_deg=0, friction_starts=False)
     t0 = time.perf_counter()
 
     def states():
         for turn in (deg, -deg):
             fields = {"turn_deg": turn}
+            sub_nlp = budget.options(_NEARBY_DROP)
+            if sub_nlp is None:
+                yield fields, None, budget.spent(), ""
+                continue
             try:
                 turned_scene = load_scene(turned(scene.data, turn))
             except Exception as exc:  # noqa: BLE001 - a direction that cannot be built is recorded, not fatal
@@ -141,7 +178,7 @@ def _from_turned_directions(scene, P, sol, part: StepResult, deg: int, options, 
     return _adopt_states(P, sol, part, states(), "direction_starts", t0)
 
 
-def _from_reduced_friction(P, sol, part: StepResult, options, nlp_options) -> StepResult:
+def _from_reduced_friction(P, sol, part: StepResult, options, budget: _NearbyBudget) -> StepResult:
     """Step 2's part, also from the collapse states of step 2 (method nlp) with every friction
     coefficient and cohesion scaled by each factor of
     :data:`limit.solve.nlp_starts.FRICTION_FACTORS` (the setting ``friction_starts``), for a
@@ -156,12 +193,15 @@ def _from_reduced_friction(P, sol, part: StepResult, options, nlp_options) -> St
     the part records them under ``friction_starts``."""
     from limit.solve.nlp_starts import FRICTION_FACTORS
 
-    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state", "global_check", "iterative"),
-                                         friction_starts=False, direction_starts_deg=0)
+    sub_options = _sub_options(P, options, friction_starts=False, direction_starts_deg=0)
     t0 = time.perf_counter()
 
     def states():
         for f in FRICTION_FACTORS:
+            sub_nlp = budget.options(_NEARBY_DROP)
+            if sub_nlp is None:
+                yield {"factor": f}, None, budget.spent(), ""
+                continue
             I2 = dataclasses.replace(P.I, mu=P.I.mu * f, cohesion=P.I.cohesion * f)
             P2 = assemble(P.scene, sub_options, interfaces=I2)
             sol2, _, _ = solve_lp(P2)
@@ -173,7 +213,7 @@ def _from_reduced_friction(P, sol, part: StepResult, options, nlp_options) -> St
     return _adopt_states(P, sol, part, states(), "friction_starts", t0)
 
 
-def _from_mirror(scene, P, sol, part: StepResult, options, nlp_options) -> StepResult:
+def _from_mirror(scene, P, sol, part: StepResult, options, budget: _NearbyBudget) -> StepResult:
     """Step 2's part, also from the collapse state of the scene under its live load reversed,
     reflected by the vertical mirror across the load (the setting ``mirror_starts``;
     :mod:`limit.model.reversal_mirror`), for a scene that this mirror maps onto itself; the part
@@ -189,11 +229,14 @@ def _from_mirror(scene, P, sol, part: StepResult, options, nlp_options) -> StepR
     mirror = reversal_mirror.find(scene, P.I)
     if mirror is None:
         return part
-    sub_options, sub_nlp = _sub_analysis(P, options, nlp_options, ("dem_state", "global_check", "iterative"),
-                                         mirror_starts=False, direction_starts_deg=0)
+    sub_options = _sub_options(P, options, mirror_starts=False, direction_starts_deg=0)
     t0 = time.perf_counter()
 
     def states():
+        sub_nlp = budget.options(_NEARBY_DROP)
+        if sub_nlp is None:
+            yield {"load": "reversed"}, None, budget.spent(), ""
+            return
         try:
             reversed_scene = load_scene(turned(scene.data, 180.0))
         except Exception as exc:  # noqa: BLE001 - a scene that cannot be built reversed is recorded, not fatal
@@ -208,11 +251,14 @@ def _from_mirror(scene, P, sol, part: StepResult, options, nlp_options) -> StepR
     return _adopt_states(P, sol, part, states(), "mirror_starts", t0)
 
 
-def _sub_analysis(P, options, nlp_options, drop: tuple, **off) -> tuple:
-    """(options, nlp_options) of a nearby start's own analysis: P's settings with ``off`` changed
-    (the nearby starts that must not recurse), and the step-2 keywords without ``drop``."""
-    sub_options = dataclasses.replace(options or Options(), settings=settings.of(P).replace(**off))
-    return sub_options, {k: v for k, v in (nlp_options or {}).items() if k not in drop}
+#: step-2 keywords that a nearby start's own analysis does not take
+_NEARBY_DROP = ("dem_state", "global_check", "iterative")
+
+
+def _sub_options(P, options, **off) -> Options:
+    """The options of a nearby start's own analysis: P's settings with ``off`` changed (the nearby
+    starts that must not recurse)."""
+    return dataclasses.replace(options or Options(), settings=settings.of(P).replace(**off))
 
 
 def _adopt_states(P, sol, part: StepResult, states, key: str, t0: float) -> StepResult:

@@ -248,3 +248,60 @@ def test_a_reduced_friction_collapse_state_can_lower_step_2():
     assert part["alpha"] <= 0.18175 and part["alpha"] < off["alpha"] * 0.96
     v = part["verification"]
     assert max(v["equilibrium"], v["yield"], v["compatibility"], v["complementarity"]) < 1e-6
+
+
+def _counting_step2(monkeypatch, status, seconds):
+    """Replace step 2 by a stub that takes ``seconds`` and returns a part of ``status`` (alpha 0.3
+    where it answers); the list it returns records one entry per call."""
+    import time as _time
+
+    from limit import step2
+    from limit.results.typed import StepResult
+
+    calls = []
+
+    def fake(P, lp_sol, **kw):
+        calls.append(kw.get("time_budget", step2.FROM_SETTINGS))
+        _time.sleep(seconds)
+        return StepResult(status, 0.3 if status == "optimal" else None, seconds, "" if status == "optimal" else "stub")
+
+    monkeypatch.setattr(step2, "step2", fake)
+    return calls
+
+
+def test_without_a_verified_point_the_nearby_starts_share_step_2s_hard_budget(monkeypatch):
+    """Step 2 without a verified point stops for good after hard_factor budgets (the settings).
+    The nearby starts (turned load, mirror) are part of step 2: once that time is spent none
+    begins, and each says why. Before, each ran a whole step 2 of its own, so a scene whose step 2
+    fails took three to four times the hard budget (the imported dome: 1,710 s)."""
+    from limit.analysis import analyse
+    from limit.model.scene import load_scene
+
+    calls = _counting_step2(monkeypatch, "failed", 0.2)
+    sc = load_scene("scenes/catalog/wall-3x3-3d.json")
+    part = analyse(sc, method="nlp", nlp_options={"time_budget": 0.02}, verdict=False).data["nlp"]  # hard: 0.1 s
+    assert len(calls) == 1 and part["status"] == "failed"
+    entries = part["direction_starts"] + part["mirror_starts"]
+    assert len(entries) == 3 and all("hard budget" in e["reason"] and e["status"] == "failed" for e in entries)
+
+
+def test_the_nearby_starts_get_what_is_left_of_the_hard_budget(monkeypatch):
+    """While time is left of step 2's hard budget, each nearby start begins with its own budget cut
+    so that its hard limit ends where step 2's does; once step 2 has a verified point, each has
+    the budgets of a step 2 of its own, as the caller gave them."""
+    from limit import step2
+    from limit.analysis import analyse
+    from limit.model.scene import load_scene
+
+    sc = load_scene("scenes/catalog/wall-3x3-3d.json")
+    calls = _counting_step2(monkeypatch, "failed", 0.0)
+    analyse(sc, method="nlp", nlp_options={"time_budget": 100.0}, verdict=False)
+    assert len(calls) == 4 and calls[0] == 100.0
+    assert all(0.0 < b < 100.0 for b in calls[1:]) and calls[1] > calls[2] > calls[3]  # the hard limit is 500 s
+    assert calls[1] > 99.0  # hardly any time spent before the first one
+    calls = _counting_step2(monkeypatch, "optimal", 0.0)
+    analyse(sc, method="nlp", nlp_options={"time_budget": 100.0}, verdict=False)
+    assert calls == [100.0] * 4
+    calls = _counting_step2(monkeypatch, "failed", 0.0)
+    analyse(sc, method="nlp", verdict=False)
+    assert calls == [step2.FROM_SETTINGS] + [pytest.approx(120.0, rel=0.01)] * 3
