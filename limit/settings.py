@@ -202,7 +202,9 @@ class Settings:
         "(--nlp-time-budget overrides it)")
     hard_factor: float = _s(
         5.0, "budget", "budgets",
-        "without a verified point step 2 goes on up to this many budgets, then stops for good")
+        "without a verified point step 2 goes on up to this many budgets, then stops for good; "
+        "its nearby starts (turned load, reduced friction, mirrored reversed load) share that time "
+        "(limit.analysis)")
     global_time_limit: float = _s(
         120.0, "budget", "s",
         "wall-clock limit of the global MILP; at the limit its best point so far counts "
