@@ -92,7 +92,6 @@ def _analyse(scene, method, options, solver, fallback, check_kinematic, nlp_opti
             log.info("%s: step 2 at reduced friction", scene.name)
             part = _from_reduced_friction(P, sol, part, options, budget)
         if nearby and st.mirror_starts and _turnable(scene):
-            log.info("%s: step 2 under the reversed live load, mirrored", scene.name)
             part = _from_mirror(scene, P, sol, part, options, budget)
     lower_bound = None
     if P.I.bonded and sol.status == Status.OPTIMAL:  # with cohesion the frictional alpha has a lower bound
@@ -229,6 +228,7 @@ def _from_mirror(scene, P, sol, part: StepResult, options, budget: _NearbyBudget
     mirror = reversal_mirror.find(scene, P.I)
     if mirror is None:
         return part
+    log.info("%s: step 2 under the reversed live load, mirrored", scene.name)
     sub_options = _sub_options(P, options, mirror_starts=False, direction_starts_deg=0)
     t0 = time.perf_counter()
 
