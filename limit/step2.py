@@ -128,11 +128,22 @@ def run(P, lp_sol, solver: str = "auto", start: str = "lp", backend: str = "auto
         runs.append(run)
         log.info("step 2: run %d of %d (%s start, %s%s): alpha %.6g, %s (%.1f s)", k + 1, len(plan), lab, name,
                  "" if name != "sla" else f", penalty {rho0:g}", run["alpha"], "verified" if ok else why, run["time_s"])
-        if best is None or (ok, -zf[N.ia]) > (best[1], -best[0][N.ia]):
+        if best is None or _rank(ok, zf[N.ia], res) > _rank(best[1], best[0][N.ia], best[2]):
             best = (zf, ok, res, why, run)
     zf, ok, res, why, run = best
     return RouteOutcome(ok, float(zf[N.ia]), zf, N, why, runs, time.perf_counter() - t0, run["alpha_raw"], res,
                         run["notes"], run["solver"], run["start"], backend)
+
+
+def _rank(ok: bool, alpha: float, res: dict | None) -> tuple:
+    """Order of the runs' points (the largest is kept): a verified point before any other, the
+    lowest alpha among verified ones; among the others the one nearest to a collapse state, the
+    lowest complementarity residual (its alpha means little: a run cut short by the budget can
+    end near alpha 0 with half its work unaccounted for)."""
+    if ok:
+        return (1, -float(alpha))
+    comp = (res or {}).get("complementarity")
+    return (0, -float(comp) if comp is not None and np.isfinite(comp) else -np.inf)
 
 
 def _vertex_plan(P, N, lp_sol, backend, runs) -> list:

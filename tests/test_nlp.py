@@ -328,3 +328,29 @@ def test_the_global_milp_reports_its_progress(monkeypatch, caplog):
     assert any(t.startswith(f"global MILP: branch and cut on {nf} binaries") for t in lines)
     assert g.status == "optimal" and g.alpha == pytest.approx(0.3, rel=1e-6)
     assert lines[-1].startswith("global MILP: optimal") and "alpha 0.3" in lines[-1]
+
+
+def test_a_failed_step_2_reports_the_run_nearest_to_a_collapse_state(monkeypatch):
+    """Where no run verifies, the part reports the run whose point is nearest to complementary
+    (its residuals, reason and ``alpha_rejected``), not the one with the lowest alpha: a run cut
+    short by the budget can end near alpha 0 with a residual of 0.5 (the imported dome's step 2
+    reported exactly that, where its best successive-LP run had reached 3.6e-4). Here every run's point fails the
+    check with a stand-in residual; the first has the lowest residual and the highest alpha."""
+    P, sol = setup(B.single_block(dim=2, b=1.0, h=0.5, t=1.0, mu=0.35))
+    seen = []
+
+    def stand_in(N, z, alpha_lp, backend, *a, **k):
+        seen.append(1)
+        zc = z.copy()
+        zc[N.ia], comp = (0.3, 1e-3) if len(seen) == 1 else (1e-9, 0.5)
+        return zc, False, {"complementarity": comp}, f"complementarity residual {comp:.2e} > 1e-06", "unpolished"
+
+    monkeypatch.setattr(nlp, "finish", stand_in)
+    monkeypatch.setattr(nlp, "needs_nlp", lambda P, sol: (True, "stand-in"))
+    from limit.model.assemble import Options
+
+    P = assemble(P.scene, Options(settings={"also_iterative": False}))
+    res = step2.step2(P, sol, method="nlp", time_budget=30.0)
+    assert len(seen) > 2 and res["status"] == "failed"
+    assert res["verification"]["complementarity"] == 1e-3 and res["alpha_rejected"] == pytest.approx(0.3)
+    assert "1.00e-03" in res["reason"]
