@@ -334,8 +334,9 @@ def test_a_failed_step_2_reports_the_run_nearest_to_a_collapse_state(monkeypatch
     """Where no run verifies, the part reports the run whose point is nearest to complementary
     (its residuals, reason and ``alpha_rejected``), not the one with the lowest alpha: a run cut
     short by the budget can end near alpha 0 with a residual of 0.5 (the imported dome's step 2
-    reported exactly that, where its best successive-LP run had reached 3.6e-4). Here every run's point fails the
-    check with a stand-in residual; the first has the lowest residual and the highest alpha."""
+    reported exactly that, where its best successive-LP run had reached 3.6e-4). Here every
+    run's point fails the check with a stand-in residual; the first has the lowest residual and
+    the highest alpha."""
     P, sol = setup(B.single_block(dim=2, b=1.0, h=0.5, t=1.0, mu=0.35))
     seen = []
 
