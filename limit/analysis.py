@@ -119,7 +119,7 @@ class _NearbyBudget:
     budget cut so that its hard limit ends there. ``t0``: perf_counter s at step 2's start."""
 
     def __init__(self, part: StepResult, st, nlp_options: dict | None, t0: float):
-        self.nlp_options = dict(nlp_options or {})
+        self.nlp_options = {k: v for k, v in (nlp_options or {}).items() if k not in _NEARBY_DROP}
         budget = self.nlp_options.get("time_budget", step2.FROM_SETTINGS)
         budget = st.nlp_time_budget if budget == step2.FROM_SETTINGS else budget
         verified = part.status in ANSWERED and part.alpha is not None
@@ -127,13 +127,13 @@ class _NearbyBudget:
         self.hard_s = None if verified or budget is None else st.hard_factor * float(budget)
         self.end = None if self.hard_s is None else t0 + self.hard_s
 
-    def options(self, drop: tuple) -> dict | None:
-        """The step-2 keywords of one nearby start, without ``drop``; None when no time is left."""
-        out = {k: v for k, v in self.nlp_options.items() if k not in drop}
+    def options(self) -> dict | None:
+        """The step-2 keywords of one nearby start (the caller's, without :data:`_NEARBY_DROP`);
+        None when no time is left."""
         if self.end is None:
-            return out
+            return dict(self.nlp_options)
         left = self.end - time.perf_counter()
-        return None if left <= 0 else {**out, "time_budget": left / self.factor}
+        return None if left <= 0 else {**self.nlp_options, "time_budget": left / self.factor}
 
     def spent(self) -> str:
         """Why a nearby start does not begin."""
@@ -162,7 +162,7 @@ def _from_turned_directions(scene, P, sol, part: StepResult, deg: int, options, 
     def states():
         for turn in (deg, -deg):
             fields = {"turn_deg": turn}
-            sub_nlp = budget.options(_NEARBY_DROP)
+            sub_nlp = budget.options()
             if sub_nlp is None:
                 yield fields, None, budget.spent(), ""
                 continue
@@ -197,7 +197,7 @@ def _from_reduced_friction(P, sol, part: StepResult, options, budget: _NearbyBud
 
     def states():
         for f in FRICTION_FACTORS:
-            sub_nlp = budget.options(_NEARBY_DROP)
+            sub_nlp = budget.options()
             if sub_nlp is None:
                 yield {"factor": f}, None, budget.spent(), ""
                 continue
@@ -233,7 +233,7 @@ def _from_mirror(scene, P, sol, part: StepResult, options, budget: _NearbyBudget
     t0 = time.perf_counter()
 
     def states():
-        sub_nlp = budget.options(_NEARBY_DROP)
+        sub_nlp = budget.options()
         if sub_nlp is None:
             yield {"load": "reversed"}, None, budget.spent(), ""
             return
